@@ -1,0 +1,68 @@
+// The data model: a tetrahedral mesh with point scalar fields.
+//
+// A TetMesh is what every reader produces and every renderer consumes. It holds only primary data; everything derived
+// (unique faces, adjacency, bounds, ranges, convexity) is computed on demand by topology.h and the functions below, so
+// there is no cached state that can go stale.
+//
+// Invariants after finalize_mesh(): every index is in range, every coordinate and scalar is finite, every tetrahedron
+// has strictly positive signed volume (vertex 3 on the positive side of the plane through 0, 1, 2 with normal
+// (p1-p0)x(p2-p0)), and the field value arrays have one value per point.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace uvr {
+
+struct ScalarField {
+    std::string name;
+    std::vector<double> values;  // one per point
+};
+
+struct Bounds {
+    glm::dvec3 lo{0.0}, hi{0.0};
+    glm::dvec3 center() const { return 0.5 * (lo + hi); }
+    glm::dvec3 extent() const { return hi - lo; }
+};
+
+using Tet = std::array<uint32_t, 4>;
+
+struct TetMesh {
+    std::string source;  // the file it came from (or a description of a generated mesh), for messages
+    std::vector<glm::dvec3> points;
+    std::vector<Tet> tets;
+    std::vector<ScalarField> fields;
+};
+
+// Six times the signed volume of tetrahedron (a, b, c, d): positive when d lies on the side of plane (a, b, c) that
+// (b-a)x(c-a) points to.
+double signed_volume6(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d);
+
+// A tetrahedron counts as degenerate (zero volume) when |6V| <= kDegenerateRelativeVolume * L^3, L its longest edge.
+// The determinant of the edge vectors is computed in double with a relative rounding error of a few 1e-16 of L^3, so
+// 1e-14 is two orders of magnitude above what rounding alone can produce for a truly flat tetrahedron, while a sliver
+// of relative volume 1e-12 (issue 10's case) is still accepted as a real cell.
+inline constexpr double kDegenerateRelativeVolume = 1e-14;
+
+// Checks the invariants above and re-orients inverted tetrahedra (swaps vertices 2 and 3). Throws InputError naming
+// mesh.source and the offending cell or point: index out of range, a repeated vertex, a degenerate tetrahedron, a
+// non-finite coordinate or scalar, a field of the wrong length, a mesh with no tetrahedron.
+// Returns the number of tetrahedra that were re-oriented.
+std::size_t finalize_mesh(TetMesh& mesh);
+
+Bounds mesh_bounds(const TetMesh& mesh);
+
+// Index of the field called `name`, or of the field at that index when `name` is a number; the first field when
+// `name` is empty. Throws InputError listing the available fields when there is no match.
+std::size_t find_field(const TetMesh& mesh, const std::string& name);
+
+struct Range {
+    double lo = 0.0, hi = 0.0;
+};
+Range field_range(const ScalarField& field);
+
+}  // namespace uvr
