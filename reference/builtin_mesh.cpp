@@ -1,1 +1,99 @@
-// placeholder: being written
+#include "reference/builtin_mesh.h"
+
+#include <cmath>
+#include <vector>
+
+#include <tetgen.h>
+
+#include "reference/error.h"
+
+namespace uvr {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+double builtin_torus_field(const glm::dvec3& p)
+{
+    return 0.5 + 0.25 * std::sin(3.0 * p.x) * std::cos(2.0 * p.y) + 0.25 * p.z / kTorusMinorRadius;
+}
+
+TetMesh builtin_torus(std::size_t target_tets)
+{
+    const double R = kTorusMajorRadius, r = kTorusMinorRadius;
+    const double volume = 2.0 * kPi * kPi * R * r * r;
+    // Surface resolution follows the target so that the surface triangles are about as large as the cells.
+    const double cell = std::cbrt(volume / double(target_tets) * 6.0 * std::sqrt(2.0));
+    const int nu = std::max(12, int(std::lround(2.0 * kPi * R / cell)));
+    const int nv = std::max(6, int(std::lround(2.0 * kPi * r / cell)));
+
+    std::vector<double> pts;
+    for (int a = 0; a < nu; ++a)
+        for (int b = 0; b < nv; ++b) {
+            const double u = 2.0 * kPi * a / nu, v = 2.0 * kPi * b / nv;
+            pts.insert(pts.end(), {(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u),
+                                   r * std::sin(v)});
+        }
+    std::vector<int> tris;
+    auto idx = [&](int a, int b) { return ((a + nu) % nu) * nv + (b + nv) % nv; };
+    for (int a = 0; a < nu; ++a)
+        for (int b = 0; b < nv; ++b) {
+            tris.insert(tris.end(), {idx(a, b), idx(a + 1, b), idx(a + 1, b + 1)});
+            tris.insert(tris.end(), {idx(a, b), idx(a + 1, b + 1), idx(a, b + 1)});
+        }
+
+    tetgenio in, out;
+    in.firstnumber = 0;
+    in.numberofpoints = static_cast<int>(pts.size() / 3);
+    in.pointlist = new REAL[pts.size()];
+    std::copy(pts.begin(), pts.end(), in.pointlist);
+    in.numberoffacets = static_cast<int>(tris.size() / 3);
+    in.facetlist = new tetgenio::facet[in.numberoffacets];
+    in.facetmarkerlist = nullptr;
+    for (int f = 0; f < in.numberoffacets; ++f) {
+        tetgenio::facet& facet = in.facetlist[f];
+        tetgenio::init(&facet);
+        facet.numberofpolygons = 1;
+        facet.polygonlist = new tetgenio::polygon[1];
+        tetgenio::init(&facet.polygonlist[0]);
+        facet.polygonlist[0].numberofvertices = 3;
+        facet.polygonlist[0].vertexlist = new int[3]{tris[f * 3], tris[f * 3 + 1], tris[f * 3 + 2]};
+    }
+    // p: tetrahedralize the surface; q1.4: radius-edge quality bound; a: volume bound; Y: keep the surface as given;
+    // Q: quiet. The volume bound is the mean cell volume for the target count.
+    char switches[64];
+    std::snprintf(switches, sizeof switches, "pq1.4a%.3gYQ", volume / double(target_tets));
+    try {
+        tetrahedralize(switches, &in, &out);
+    } catch (...) {
+        throw InputError("builtin:torus", "TetGen failed to tetrahedralize the torus");
+    }
+
+    TetMesh mesh;
+    mesh.source = "builtin:torus";
+    mesh.points.resize(std::size_t(out.numberofpoints));
+    for (int i = 0; i < out.numberofpoints; ++i)
+        mesh.points[std::size_t(i)] = {out.pointlist[3 * i], out.pointlist[3 * i + 1], out.pointlist[3 * i + 2]};
+    mesh.tets.resize(std::size_t(out.numberoftetrahedra));
+    for (int t = 0; t < out.numberoftetrahedra; ++t)
+        for (int k = 0; k < 4; ++k)
+            mesh.tets[std::size_t(t)][std::size_t(k)] =
+                static_cast<uint32_t>(out.tetrahedronlist[t * out.numberofcorners + k]);
+    ScalarField field{"wave", {}};
+    field.values.reserve(mesh.points.size());
+    for (const auto& p : mesh.points) field.values.push_back(builtin_torus_field(p));
+    mesh.fields.push_back(std::move(field));
+    finalize_mesh(mesh);
+    return mesh;
+}
+
+bool is_builtin_path(const std::string& path) { return path.rfind("builtin:", 0) == 0; }
+
+TetMesh load_builtin(const std::string& path)
+{
+    if (path == "builtin:torus") return builtin_torus(kBuiltinTorusTets);
+    if (path == "builtin:torus-small") return builtin_torus(kBuiltinTorusSmallTets);
+    throw InputError(path, "unknown built-in data set (known: builtin:torus, builtin:torus-small)");
+}
+
+}  // namespace uvr

@@ -1,5 +1,6 @@
 #include "reference/dataset.h"
 
+#include "reference/builtin_mesh.h"
 #include "reference/error.h"
 #include "reference/io_util.h"
 
@@ -7,6 +8,11 @@ namespace uvr {
 
 Dataset load_dataset(const std::string& path, const LoadOptions& options)
 {
+    if (is_builtin_path(path)) {
+        Dataset d;
+        d.mesh = load_builtin(path);
+        return d;
+    }
     const std::string ext = file_extension(path);
     if (options.raw_dims) return read_raw_volume(path, *options.raw_dims, options.raw_dtype, options.raw_big_endian);
     if (!options.q_file.empty()) return read_plot3d(path, options.q_file);

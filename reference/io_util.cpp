@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include <unistd.h>
 #include <zlib.h>
 
 #include "reference/error.h"
@@ -221,6 +222,29 @@ std::string directory_of(const std::string& path)
 {
     auto slash = path.find_last_of('/');
     return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+}  // namespace uvr
+
+namespace uvr {
+
+void write_file_atomically(const std::string& path, std::string_view bytes)
+{
+    const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+    std::FILE* f = std::fopen(tmp.c_str(), "wb");
+    if (!f) throw InputError(path, std::string("cannot write: ") + std::strerror(errno));
+    const bool ok = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size();
+    const int err = ok ? 0 : errno;
+    const bool closed = std::fclose(f) == 0;
+    if (!ok || !closed) {
+        std::remove(tmp.c_str());
+        throw InputError(path, std::string("cannot write: ") + std::strerror(err ? err : errno));
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int e = errno;
+        std::remove(tmp.c_str());
+        throw InputError(path, std::string("cannot write: ") + std::strerror(e));
+    }
 }
 
 }  // namespace uvr

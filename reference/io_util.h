@@ -119,3 +119,12 @@ std::string file_extension(const std::string& path);  // lowercase, with the dot
 std::string directory_of(const std::string& path);    // "" or ending in '/'
 
 }  // namespace uvr
+
+namespace uvr {
+
+// Writes `bytes` to `path` through a temporary file in the same directory that is renamed over `path` only once it is
+// complete, so a failure (unwritable directory, full disk) leaves no half-written output and no stale temporary.
+// Throws InputError naming `path`.
+void write_file_atomically(const std::string& path, std::string_view bytes);
+
+}  // namespace uvr

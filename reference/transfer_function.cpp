@@ -1,1 +1,181 @@
-// placeholder: being written
+#include "reference/transfer_function.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "reference/error.h"
+#include "reference/io_util.h"
+
+namespace uvr {
+
+namespace {
+
+template <class Node, class Get>
+auto piecewise_linear(const std::vector<Node>& nodes, double s, Get get)
+{
+    if (s <= nodes.front().s) return get(nodes.front());
+    if (s >= nodes.back().s) return get(nodes.back());
+    // First node with node.s > s; nodes with equal s form a jump, and the later one applies at s exactly.
+    auto it = std::upper_bound(nodes.begin(), nodes.end(), s, [](double v, const Node& n) { return v < n.s; });
+    const Node& b = *it;
+    const Node& a = *(it - 1);
+    const double w = (s - a.s) / (b.s - a.s);
+    return get(a) + (get(b) - get(a)) * w;
+}
+
+long line_of(const std::string& text, std::size_t byte)
+{
+    return 1 + static_cast<long>(std::count(text.begin(), text.begin() + static_cast<long>(std::min(byte, text.size())),
+                                            '\n'));
+}
+
+double number(const nlohmann::json& v, const std::string& file, const std::string& where)
+{
+    if (!v.is_number()) throw InputError(file, where + " must be a number, found " + v.dump());
+    const double d = v.get<double>();
+    if (!std::isfinite(d)) throw InputError(file, where + " is not finite");
+    return d;
+}
+
+std::vector<std::vector<double>> node_list(const nlohmann::json& arr, std::size_t width, const std::string& file,
+                                           const std::string& key)
+{
+    if (!arr.is_array() || arr.empty())
+        throw InputError(file, "\"" + key + "\" must be a non-empty list of [s, ...] nodes");
+    std::vector<std::vector<double>> out;
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+        const auto& n = arr[i];
+        const std::string where = "\"" + key + "\" node " + std::to_string(i);
+        if (!n.is_array() || n.size() != width)
+            throw InputError(file, where + " must have " + std::to_string(width) + " numbers, found " + n.dump());
+        std::vector<double> row;
+        for (std::size_t k = 0; k < width; ++k) row.push_back(number(n[k], file, where));
+        if (!out.empty() && row[0] < out.back()[0])
+            throw InputError(file, where + " is out of order: s = " + std::to_string(row[0]) + " after " +
+                                       std::to_string(out.back()[0]) + " (nodes must be sorted by s)");
+        out.push_back(row);
+    }
+    return out;
+}
+
+std::vector<ColorNode> rgb_points(const nlohmann::json& preset, const std::string& file)
+{
+    const nlohmann::json* p = &preset;
+    if (p->is_array() && p->size() == 1 && (*p)[0].is_object()) p = &(*p)[0];
+    if (!p->is_object() || !p->contains("RGBPoints"))
+        throw InputError(file, "a ParaView preset must hold \"RGBPoints\"");
+    const auto& pts = (*p)["RGBPoints"];
+    if (!pts.is_array() || pts.empty() || pts.size() % 4 != 0)
+        throw InputError(file, "\"RGBPoints\" must be a flat list of s, r, g, b quadruples");
+    nlohmann::json rows = nlohmann::json::array();
+    for (std::size_t i = 0; i < pts.size(); i += 4) rows.push_back({pts[i], pts[i + 1], pts[i + 2], pts[i + 3]});
+    std::vector<ColorNode> out;
+    for (const auto& r : node_list(rows, 4, file, "RGBPoints")) out.push_back({r[0], {r[1], r[2], r[3]}});
+    return out;
+}
+
+}  // namespace
+
+glm::dvec3 TransferFunction::color_at(double s) const
+{
+    return piecewise_linear(color, s, [](const ColorNode& n) { return n.rgb; });
+}
+
+double TransferFunction::tau_at(double s) const
+{
+    return piecewise_linear(extinction, s, [](const ExtinctionNode& n) { return n.tau; });
+}
+
+std::vector<double> TransferFunction::breakpoints() const
+{
+    std::vector<double> b;
+    for (const auto& n : color) b.push_back(n.s);
+    for (const auto& n : extinction) b.push_back(n.s);
+    std::sort(b.begin(), b.end());
+    b.erase(std::unique(b.begin(), b.end()), b.end());
+    return b;
+}
+
+TransferFunction parse_transfer_function(const std::string& text, const std::string& file)
+{
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw InputError(file, line_of(text, e.byte ? e.byte - 1 : 0), std::string("invalid JSON: ") + e.what());
+    }
+    if (!j.is_object()) throw InputError(file, "a transfer function must be a JSON object");
+    TransferFunction tf;
+    if (j.contains("RGBPoints")) {
+        tf.color = rgb_points(j, file);
+    } else if (j.contains("color")) {
+        const auto& c = j["color"];
+        if (c.is_object() || (c.is_array() && !c.empty() && c[0].is_object())) {
+            tf.color = rgb_points(c, file);
+        } else {
+            for (const auto& r : node_list(c, 4, file, "color")) tf.color.push_back({r[0], {r[1], r[2], r[3]}});
+        }
+    } else {
+        throw InputError(file, "missing \"color\" (or a ParaView \"RGBPoints\" preset)");
+    }
+    for (std::size_t i = 0; i < tf.color.size(); ++i)
+        for (int k = 0; k < 3; ++k)
+            if (tf.color[i].rgb[k] < 0.0 || tf.color[i].rgb[k] > 1.0)
+                throw InputError(file, "colour node " + std::to_string(i) + " has a component outside [0, 1]");
+    if (j.contains("extinction")) {
+        for (const auto& r : node_list(j["extinction"], 2, file, "extinction")) {
+            if (r[1] < 0.0) throw InputError(file, "extinction must be >= 0, found " + std::to_string(r[1]));
+            tf.extinction.push_back({r[0], r[1]});
+        }
+    } else if (j.contains("opacity")) {
+        if (!j.contains("unit_distance"))
+            throw InputError(file, "\"opacity\" needs \"unit_distance\" (the length over which it applies)");
+        const double u = number(j["unit_distance"], file, "\"unit_distance\"");
+        if (!(u > 0.0)) throw InputError(file, "\"unit_distance\" must be positive");
+        for (const auto& r : node_list(j["opacity"], 2, file, "opacity")) {
+            if (r[1] < 0.0 || r[1] >= 1.0)
+                throw InputError(file, "opacity must be in [0, 1) (1 would be an infinite extinction), found " +
+                                           std::to_string(r[1]));
+            tf.extinction.push_back({r[0], -std::log1p(-r[1]) / u});
+        }
+    } else {
+        throw InputError(file, "missing \"extinction\" (or \"opacity\" with \"unit_distance\")");
+    }
+    return tf;
+}
+
+TransferFunction load_transfer_function(const std::string& path)
+{
+    return parse_transfer_function(read_file_bytes(path), path);
+}
+
+TransferFunction default_transfer_function(Range range, double diagonal)
+{
+    double lo = range.lo, hi = range.hi;
+    if (!(hi > lo)) hi = lo + 1.0;  // a constant field still gets a usable table
+    const double d = hi - lo;
+    // A viridis-like ramp: perceptually ordered, readable on black.
+    static const double kColors[5][3] = {{0.267, 0.005, 0.329},
+                                         {0.230, 0.322, 0.546},
+                                         {0.128, 0.567, 0.551},
+                                         {0.369, 0.789, 0.383},
+                                         {0.993, 0.906, 0.144}};
+    TransferFunction tf;
+    for (int i = 0; i < 5; ++i) tf.color.push_back({lo + d * i / 4.0, {kColors[i][0], kColors[i][1], kColors[i][2]}});
+    const double k = kDefaultOpticalDepth / (diagonal > 0.0 ? diagonal : 1.0);
+    static const double kShape[5][2] = {{0.0, 0.05}, {0.3, 1.0}, {0.55, 0.15}, {0.8, 0.9}, {1.0, 0.3}};
+    for (const auto& n : kShape) tf.extinction.push_back({lo + d * n[0], k * n[1]});
+    return tf;
+}
+
+std::string transfer_function_json(const TransferFunction& tf)
+{
+    nlohmann::json j;
+    for (const auto& n : tf.color) j["color"].push_back({n.s, n.rgb.r, n.rgb.g, n.rgb.b});
+    for (const auto& n : tf.extinction) j["extinction"].push_back({n.s, n.tau});
+    return j.dump(1);
+}
+
+}  // namespace uvr

@@ -1,0 +1,32 @@
+// The built-in data set: a tetrahedralized torus carrying an analytic scalar field, made by TetGen from a triangulated
+// surface with fixed switches (TetGen is deterministic for a given input, so every machine gets the same mesh from
+// the same Debian package). It is non-convex in the way that matters to the GPU algorithms: rays through the hole and
+// rays that cross the torus twice see gaps. `uvr demo` and the tests use it; nothing outside the repository is needed.
+#pragma once
+
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "reference/mesh.h"
+
+namespace uvr {
+
+inline constexpr double kTorusMajorRadius = 1.0;
+inline constexpr double kTorusMinorRadius = 0.4;
+
+// The analytic field sampled at the points ("wave"): smooth, with several extrema across the torus.
+double builtin_torus_field(const glm::dvec3& p);
+
+// A torus of roughly `target_tets` tetrahedra (the exact count is whatever TetGen makes of the size constraint).
+TetMesh builtin_torus(std::size_t target_tets);
+
+// Pseudo-paths understood by load_dataset(): "builtin:torus" (the demo mesh, about 100 K tetrahedra) and
+// "builtin:torus-small" (about 5 K, for fast tests). Returns true and fills `mesh` when `path` is one of them.
+bool is_builtin_path(const std::string& path);
+TetMesh load_builtin(const std::string& path);
+
+inline constexpr std::size_t kBuiltinTorusTets = 100000;
+inline constexpr std::size_t kBuiltinTorusSmallTets = 5000;
+
+}  // namespace uvr

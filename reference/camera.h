@@ -1,0 +1,48 @@
+// The camera of SPEC §2 and the ray through each pixel centre.
+#pragma once
+
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "reference/mesh.h"
+
+namespace uvr {
+
+struct Camera {
+    glm::dvec3 eye{0.0, 0.0, 1.0};
+    glm::dvec3 target{0.0};
+    glm::dvec3 up{0.0, 1.0, 0.0};
+    double fovy_deg = 30.0;
+    bool orthographic = false;
+    double ortho_height = 1.0;
+};
+
+struct Ray {
+    glm::dvec3 origin;
+    glm::dvec3 dir;  // unit length; distances along the ray are world units from origin
+};
+
+// The orthonormal frame of SPEC §2: f = normalize(target - eye), r = normalize(f x up), u = r x f.
+struct CameraFrame {
+    glm::dvec3 f, r, u;
+};
+CameraFrame camera_frame(const Camera& cam);
+
+// Pixel (i, j): column i from the left, row j from the top, through the pixel centre.
+Ray camera_ray(const Camera& cam, int width, int height, double i, double j);
+
+// JSON {"eye", "target", "up", "fovy_deg", "projection", "ortho_height"}. Throws InputError naming the file: missing or
+// non-finite vectors, eye == target, up parallel to the view direction, fovy outside (0, 180), ortho_height <= 0.
+Camera load_camera(const std::string& path);
+Camera parse_camera(const std::string& json_text, const std::string& file);
+void validate_camera(const Camera& cam, const std::string& file);
+std::string camera_json(const Camera& cam);
+
+// The default camera: looks at the bounds' centre from +z, far enough that the bounding sphere fits the vertical and
+// horizontal field of view (30 degrees vertical), then orbited by azimuth (about +y, towards +x) and elevation (towards
+// +y) in degrees; `up` is orbited with it so it never becomes parallel to the view direction.
+Camera default_camera(const Bounds& bounds, double width_over_height, double azimuth_deg = 0.0,
+                      double elevation_deg = 0.0);
+
+}  // namespace uvr

@@ -1,0 +1,37 @@
+// Images: float32 premultiplied RGBA, row 0 at the top (SPEC §2), and their files.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace uvr {
+
+struct Image {
+    int width = 0, height = 0;
+    std::vector<float> rgba;  // width * height * 4, premultiplied, row-major from the top row
+
+    Image() = default;
+    Image(int w, int h) : width(w), height(h), rgba(std::size_t(w) * std::size_t(h) * 4, 0.0f) {}
+    float* pixel(int i, int j) { return &rgba[(std::size_t(j) * std::size_t(width) + std::size_t(i)) * 4]; }
+    const float* pixel(int i, int j) const { return &rgba[(std::size_t(j) * std::size_t(width) + std::size_t(i)) * 4]; }
+};
+
+// By extension: .npy (float32 H x W x 4), .png (8-bit RGB composited over `background`, no gamma: the values are taken
+// as display values, as the GPU algorithms' framebuffers are). Written atomically (io_util.h). Throws InputError for an
+// unsupported extension or a write failure. .exr is not supported (docs/formats.md).
+void write_image(const std::string& path, const Image& image, glm::dvec3 background = glm::dvec3(0.0));
+void write_npy(const std::string& path, const Image& image);
+void write_png(const std::string& path, const Image& image, glm::dvec3 background);
+
+// Reads a float32 H x W x 4 (or H x W x 3, alpha 1) .npy written by uvr or numpy. Throws InputError on anything else.
+Image read_npy(const std::string& path);
+
+// 8-bit RGB(A) rows for a PNG of arbitrary content (error heat-maps, diagnostics), written atomically.
+void write_png_rgb8(const std::string& path, int width, int height, const std::vector<unsigned char>& rgb);
+
+// "WxH" -> width, height (each 1..16384). Throws InputError (file empty) with the option text.
+void parse_size(const std::string& text, int& width, int& height);
+
+}  // namespace uvr
