@@ -2,10 +2,12 @@
 #pragma once
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace uvr::test {
@@ -52,3 +54,46 @@ inline std::string file_contents(const std::string& path)
 }
 
 }  // namespace uvr::test
+
+#include <array>
+#include <catch2/catch.hpp>
+
+#include "reference/error.h"
+
+namespace uvr::test {
+
+// Runs `fn` and checks that it throws uvr::InputError whose message contains every one of `phrases`.
+template <class Fn>
+void require_input_error(Fn&& fn, std::initializer_list<std::string> phrases)
+{
+    try {
+        fn();
+        FAIL("expected an InputError containing '" << *phrases.begin() << "', but nothing was thrown");
+    } catch (const uvr::InputError& e) {
+        INFO("message: " << e.what());
+        for (const auto& p : phrases) CHECK_THAT(e.what(), Catch::Contains(p));
+    }
+}
+
+struct CommandResult {
+    int exit_code = -1;
+    std::string out;  // stdout
+    std::string err;  // stderr
+};
+
+// Runs the `uvr` program with `args` (shell-quoted by the caller), capturing stdout and stderr separately.
+inline CommandResult run_uvr(const std::string& args)
+{
+    TempDir tmp("run");
+    const std::string out = tmp.file("stdout"), err = tmp.file("stderr");
+    const std::string cmd = std::string("'") + UVR_BINARY + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
+    const int status = std::system(cmd.c_str());
+    CommandResult r;
+    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = file_contents(out);
+    r.err = file_contents(err);
+    return r;
+}
+
+}  // namespace uvr::test
+

@@ -1,0 +1,99 @@
+// `uvr info MESH [--json]`: what a data set holds (SPEC §3).
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/commands.h"
+#include "reference/topology.h"
+
+namespace uvr::cli {
+
+namespace {
+
+nlohmann::json vec3(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
+
+nlohmann::json describe_mesh(const TetMesh& mesh)
+{
+    const MeshTopology topo = build_topology(mesh);
+    const Bounds b = mesh_bounds(mesh);
+    nlohmann::json j;
+    j["kind"] = "tetrahedral mesh";
+    j["points"] = mesh.points.size();
+    j["tetrahedra"] = mesh.tets.size();
+    j["faces"] = {{"unique", topo.faces.size()}, {"boundary", topo.boundary_faces}, {"internal", topo.internal_faces}};
+    j["fields"] = nlohmann::json::array();
+    for (const auto& f : mesh.fields) {
+        const Range r = field_range(f);
+        j["fields"].push_back({{"name", f.name}, {"min", r.lo}, {"max", r.hi}});
+    }
+    j["bounds"] = {{"min", vec3(b.lo)}, {"max", vec3(b.hi)}};
+    j["convex"] = boundary_is_convex(mesh, topo);
+    j["volume"] = total_tet_volume(mesh);
+    return j;
+}
+
+nlohmann::json describe_volume(const Volume& v)
+{
+    const Bounds b = volume_bounds(v);
+    const Range r = volume_range(v);
+    nlohmann::json j;
+    j["kind"] = "regular grid";
+    j["dims"] = {v.dims[0], v.dims[1], v.dims[2]};
+    j["points"] = uint64_t(v.dims[0]) * uint64_t(v.dims[1]) * uint64_t(v.dims[2]);
+    j["voxel_type"] = voxel_type_name(v.type);
+    j["origin"] = vec3(v.origin);
+    j["spacing"] = vec3(v.spacing);
+    j["fields"] = {{{"name", v.name}, {"min", r.lo}, {"max", r.hi}}};
+    j["bounds"] = {{"min", vec3(b.lo)}, {"max", vec3(b.hi)}};
+    return j;
+}
+
+void print_text(const nlohmann::json& j)
+{
+    std::printf("%s: %s\n", j["file"].get<std::string>().c_str(), j["kind"].get<std::string>().c_str());
+    if (j["kind"] == "tetrahedral mesh") {
+        std::printf("  points       %zu\n", j["points"].get<std::size_t>());
+        std::printf("  tetrahedra   %zu\n", j["tetrahedra"].get<std::size_t>());
+        std::printf("  faces        %zu unique (%zu boundary, %zu internal)\n", j["faces"]["unique"].get<std::size_t>(),
+                    j["faces"]["boundary"].get<std::size_t>(), j["faces"]["internal"].get<std::size_t>());
+        std::printf("  convex       %s\n", j["convex"].get<bool>() ? "yes" : "no");
+    } else {
+        std::printf("  dims         %lld x %lld x %lld (%s)\n", j["dims"][0].get<long long>(),
+                    j["dims"][1].get<long long>(), j["dims"][2].get<long long>(),
+                    j["voxel_type"].get<std::string>().c_str());
+        std::printf("  spacing      %g %g %g\n", j["spacing"][0].get<double>(), j["spacing"][1].get<double>(),
+                    j["spacing"][2].get<double>());
+    }
+    const auto& lo = j["bounds"]["min"];
+    const auto& hi = j["bounds"]["max"];
+    std::printf("  bounds       [%g, %g] x [%g, %g] x [%g, %g]\n", lo[0].get<double>(), hi[0].get<double>(),
+                lo[1].get<double>(), hi[1].get<double>(), lo[2].get<double>(), hi[2].get<double>());
+    if (j["fields"].empty()) std::printf("  fields       none\n");
+    for (const auto& f : j["fields"])
+        std::printf("  field        %-20s [%.9g, %.9g]\n", f["name"].get<std::string>().c_str(), f["min"].get<double>(),
+                    f["max"].get<double>());
+}
+
+}  // namespace
+
+void register_info(CLI::App& app)
+{
+    auto* cmd = app.add_subcommand("info", "Describe a mesh or volume: counts, faces, fields, bounds, convexity");
+    auto in = std::make_shared<InputOptions>();
+    auto json = std::make_shared<bool>(false);
+    add_input_options(*cmd, *in);
+    cmd->add_flag("--json", *json, "Print one JSON object on stdout");
+    cmd->callback([in, json] {
+        const Dataset d = load_input(*in);
+        print_warnings(d);
+        nlohmann::json j = d.mesh ? describe_mesh(*d.mesh) : describe_volume(*d.volume);
+        j["file"] = in->path;
+        j["warnings"] = d.warnings;
+        if (*json)
+            std::printf("%s\n", j.dump(1).c_str());
+        else
+            print_text(j);
+    });
+}
+
+}  // namespace uvr::cli

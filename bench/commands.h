@@ -1,0 +1,16 @@
+// The sub-commands of `uvr`, one file each (cmd_<name>.cpp). Each registers itself on the application; its callback
+// throws InputError for bad input, which main() turns into a message and exit code.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include "bench/options.h"
+
+namespace uvr::cli {
+
+void register_info(CLI::App& app);
+void register_demo(CLI::App& app);
+// Commands whose algorithms are still being built: they parse their options and say clearly what is missing.
+void register_pending(CLI::App& app);
+
+}  // namespace uvr::cli

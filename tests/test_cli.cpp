@@ -1,0 +1,107 @@
+// The `uvr` program as a user meets it: help, `info --json` on the real data, errors and exit codes.
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+using uvr::test::CommandResult;
+using uvr::test::data_path;
+using uvr::test::run_uvr;
+
+namespace {
+
+nlohmann::json info_json(const std::string& args)
+{
+    const CommandResult r = run_uvr("info " + args + " --json");
+    INFO("uvr info " << args << "\nstderr: " << r.err);
+    REQUIRE(r.exit_code == 0);
+    return nlohmann::json::parse(r.out);
+}
+
+std::string quoted(const std::string& p) { return "'" + p + "'"; }
+
+}  // namespace
+
+TEST_CASE("uvr --help and every sub-command's --help succeed")
+{
+    const CommandResult top = run_uvr("--help");
+    CHECK(top.exit_code == 0);
+    for (const char* cmd : {"info", "render", "compare", "sweep", "bench", "demo"}) {
+        INFO(cmd);
+        CHECK_THAT(top.out, Catch::Contains(cmd));
+        CHECK(run_uvr(std::string(cmd) + " --help").exit_code == 0);
+    }
+}
+
+TEST_CASE("uvr info --json reports the counts SOURCES.md gives")
+{
+    SECTION("post.vtk")
+    {
+        const auto j = info_json(quoted(data_path("vtk-data/post.vtk")));
+        CHECK(j["points"] == 2288);
+        CHECK(j["tetrahedra"] == 8750);
+        CHECK(j["fields"][0]["name"] == "Pressure");
+        CHECK(j["faces"]["unique"] == j["faces"]["boundary"].get<int>() + j["faces"]["internal"].get<int>());
+    }
+    SECTION("tetraMesh.vtk") { CHECK(info_json(quoted(data_path("vtk-data/tetraMesh.vtk")))["tetrahedra"] == 160); }
+    SECTION("Tetrahedron.vtu") { CHECK(info_json(quoted(data_path("vtk-data/Tetrahedron.vtu")))["tetrahedra"] == 96); }
+    SECTION("Blunt Fin")
+    {
+        const auto j = info_json(quoted(data_path("vtk-data/bluntfinxyz.bin")) + " --q " +
+                                 quoted(data_path("vtk-data/bluntfinq.bin")));
+        CHECK(j["points"] == 40960);
+        CHECK(j["tetrahedra"] == 187395);
+        CHECK(j["fields"].size() == 5);
+    }
+    SECTION("Oxygen Post")
+    {
+        const auto j = info_json(quoted(data_path("vtk-data/postxyz.bin")) + " --q " +
+                                 quoted(data_path("vtk-data/postq.bin")));
+        CHECK(j["tetrahedra"] == 513375);
+    }
+    SECTION("a volume")
+    {
+        const auto j = info_json(quoted(data_path("vtk-data/ironProt.vtk")));
+        CHECK(j["kind"] == "regular grid");
+        CHECK(j["dims"] == nlohmann::json({68, 68, 68}));
+    }
+    SECTION("the built-in torus is not convex")
+    {
+        const auto j = info_json("builtin:torus-small");
+        CHECK(j["convex"] == false);
+        CHECK(j["fields"][0]["name"] == "wave");
+    }
+}
+
+TEST_CASE("bad input makes uvr exit non-zero with a message naming the file, never crash")
+{
+    SECTION("missing file")
+    {
+        const CommandResult r = run_uvr("info /nonexistent/mesh.vtk");
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains("/nonexistent/mesh.vtk") && Catch::Contains("cannot open"));
+        CHECK(r.out.empty());
+    }
+    SECTION("unknown field")
+    {
+        const CommandResult r = run_uvr("info " + quoted(data_path("vtk-data/post.vtk")) + " --field nope");
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains("post.vtk") && Catch::Contains("no field 'nope'"));
+    }
+    SECTION("unknown format")
+    {
+        const CommandResult r = run_uvr("info " + quoted(data_path("SOURCES.md")));
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains("unknown file format"));
+    }
+    SECTION("usage error")
+    {
+        const CommandResult r = run_uvr("info");
+        CHECK(r.exit_code == 2);
+    }
+    SECTION("a command whose algorithm has not landed says so")
+    {
+        const CommandResult r = run_uvr("sweep builtin:torus-small --k 1,2 --report /tmp/x");
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains("not available yet"));
+    }
+}

@@ -1,0 +1,105 @@
+// Transfer-function files (SPEC §1) and their evaluation.
+#include <cmath>
+
+#include "reference/transfer_function.h"
+#include "test_support.h"
+
+using namespace uvr;
+using uvr::test::require_input_error;
+
+TEST_CASE("colour and extinction are piecewise linear and constant beyond the end nodes")
+{
+    const TransferFunction tf = parse_transfer_function(
+        R"({"color": [[0, 0, 0, 0], [1, 1, 0.5, 0], [3, 0, 1, 1]], "extinction": [[1, 2], [2, 4]]})", "tf.json");
+    CHECK(tf.color_at(-5.0).x == 0.0);
+    CHECK(tf.color_at(0.5).x == 0.5);
+    CHECK(tf.color_at(0.5).y == 0.25);
+    CHECK(tf.color_at(2.0).x == 0.5);
+    CHECK(tf.color_at(2.0).z == 0.5);
+    CHECK(tf.color_at(9.0).z == 1.0);
+    CHECK(tf.tau_at(0.0) == 2.0);
+    CHECK(tf.tau_at(1.5) == 3.0);
+    CHECK(tf.tau_at(7.0) == 4.0);
+    CHECK(tf.breakpoints() == std::vector<double>{0.0, 1.0, 2.0, 3.0});
+}
+
+TEST_CASE("opacity with a unit distance converts to extinction per node")
+{
+    const TransferFunction tf =
+        parse_transfer_function(R"({"color": [[0, 1, 1, 1]], "opacity": [[0, 0], [1, 0.5]], "unit_distance": 2})",
+                                "tf.json");
+    CHECK(tf.tau_at(0.0) == 0.0);
+    CHECK(tf.tau_at(1.0) == Approx(std::log(2.0) / 2.0).epsilon(1e-15));
+}
+
+TEST_CASE("a ParaView RGBPoints preset is accepted for the colour")
+{
+    const TransferFunction tf = parse_transfer_function(
+        R"({"color": [{"Name": "x", "RGBPoints": [0, 0, 0, 0, 10, 1, 1, 1]}], "extinction": [[0, 1]]})", "tf.json");
+    CHECK(tf.color.size() == 2);
+    CHECK(tf.color_at(5.0).y == 0.5);
+    const TransferFunction tf2 =
+        parse_transfer_function(R"({"RGBPoints": [0, 0, 0, 0, 10, 1, 1, 1], "extinction": [[0, 1]]})", "tf.json");
+    CHECK(tf2.color_at(10.0).z == 1.0);
+}
+
+TEST_CASE("malformed transfer functions are errors that name the file and the problem")
+{
+    SECTION("JSON syntax error gives the line")
+    {
+        require_input_error([] { parse_transfer_function("{\n\"color\": [[0,1,1,1]],\n oops }", "tf.json"); },
+                            {"tf.json:3", "invalid JSON"});
+    }
+    SECTION("unsorted nodes")
+    {
+        require_input_error(
+            [] { parse_transfer_function(R"({"color": [[1,0,0,0],[0,1,1,1]], "extinction": [[0,1]]})", "tf.json"); },
+            {"tf.json", "out of order"});
+    }
+    SECTION("negative extinction")
+    {
+        require_input_error(
+            [] { parse_transfer_function(R"({"color": [[0,0,0,0]], "extinction": [[0,-1]]})", "tf.json"); },
+            {"tf.json", "extinction must be >= 0"});
+    }
+    SECTION("colour outside [0, 1]")
+    {
+        require_input_error(
+            [] { parse_transfer_function(R"({"color": [[0,2,0,0]], "extinction": [[0,1]]})", "tf.json"); },
+            {"tf.json", "outside [0, 1]"});
+    }
+    SECTION("opacity of 1 would be infinite extinction")
+    {
+        require_input_error(
+            [] {
+                parse_transfer_function(R"({"color": [[0,0,0,0]], "opacity": [[0,1]], "unit_distance": 1})",
+                                        "tf.json");
+            },
+            {"tf.json", "opacity must be in [0, 1)"});
+    }
+    SECTION("missing extinction")
+    {
+        require_input_error([] { parse_transfer_function(R"({"color": [[0,0,0,0]]})", "tf.json"); },
+                            {"tf.json", "missing \"extinction\""});
+    }
+    SECTION("missing file")
+    {
+        require_input_error([] { load_transfer_function("/nonexistent/tf.json"); },
+                            {"/nonexistent/tf.json", "cannot open"});
+    }
+}
+
+TEST_CASE("the default transfer function spans the range and scales with the mesh size")
+{
+    const TransferFunction a = default_transfer_function({2.0, 4.0}, 1.0);
+    const TransferFunction b = default_transfer_function({2.0, 4.0}, 10.0);
+    CHECK(a.color.front().s == 2.0);
+    CHECK(a.color.back().s == 4.0);
+    double max_a = 0.0;
+    for (const auto& n : a.extinction) max_a = std::max(max_a, n.tau);
+    CHECK(max_a == Approx(kDefaultOpticalDepth));
+    CHECK(b.tau_at(3.0) == Approx(a.tau_at(3.0) / 10.0));
+    // It round-trips through its own JSON.
+    const TransferFunction c = parse_transfer_function(transfer_function_json(a), "roundtrip");
+    CHECK(c.tau_at(2.7) == a.tau_at(2.7));
+}
