@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Installs, from Debian 12's packages, what uvr needs to build and test. Run as root; does nothing when all is there.
+set -euo pipefail
+packages=(
+  build-essential cmake ninja-build pkg-config git
+  libembree-dev libglm-dev libosmesa6-dev libtbb-dev libpng-dev zlib1g-dev
+  catch2 libtet1.5-dev nlohmann-json3-dev libcli11-dev libpugixml-dev
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "install-deps: installing ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq
+  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
