@@ -20,6 +20,7 @@ nlohmann::json describe_mesh(const TetMesh& mesh)
     j["kind"] = "tetrahedral mesh";
     j["points"] = mesh.points.size();
     j["tetrahedra"] = mesh.tets.size();
+    j["degenerate_tetrahedra"] = count_degenerate(mesh);
     j["faces"] = {{"unique", topo.faces.size()}, {"boundary", topo.boundary_faces}, {"internal", topo.internal_faces}};
     j["fields"] = nlohmann::json::array();
     for (const auto& f : mesh.fields) {
@@ -53,7 +54,10 @@ void print_text(const nlohmann::json& j)
     std::printf("%s: %s\n", j["file"].get<std::string>().c_str(), j["kind"].get<std::string>().c_str());
     if (j["kind"] == "tetrahedral mesh") {
         std::printf("  points       %zu\n", j["points"].get<std::size_t>());
-        std::printf("  tetrahedra   %zu\n", j["tetrahedra"].get<std::size_t>());
+        std::printf("  tetrahedra   %zu", j["tetrahedra"].get<std::size_t>());
+        if (j["degenerate_tetrahedra"] != 0)
+            std::printf(" (%zu flat, from collapsed grid cells)", j["degenerate_tetrahedra"].get<std::size_t>());
+        std::printf("\n");
         std::printf("  faces        %zu unique (%zu boundary, %zu internal)\n", j["faces"]["unique"].get<std::size_t>(),
                     j["faces"]["boundary"].get<std::size_t>(), j["faces"]["internal"].get<std::size_t>());
         std::printf("  convex       %s\n", j["convex"].get<bool>() ? "yes" : "no");

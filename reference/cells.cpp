@@ -214,7 +214,7 @@ TetMesh tetrahedralize_structured(const StructuredGrid& grid)
                 mesh.tets.push_back({g[central[0]], g[central[1]], g[central[2]], g[central[3]]});
             }
     if (mesh.tets.empty()) throw InputError(file, "every cell of the grid is blanked (iblank 0)");
-    finalize_mesh(mesh);
+    finalize_mesh(mesh, DegenerateCells::keep);
     return mesh;
 }
 

@@ -52,7 +52,8 @@ struct StructuredGrid {
 
 // Splits every hexahedral cell into 5 tetrahedra, the two mirror-image 5-splits alternating with the parity of
 // i + j + k so that the diagonals of shared faces agree (the classic construction that gives Blunt Fin's 187,395
-// tetrahedra). Applies finalize_mesh. Throws InputError for dims < 2 or a point count that does not match.
+// tetrahedra). Applies finalize_mesh, keeping the zero-volume tetrahedra of collapsed cells (DegenerateCells::keep).
+// Throws InputError for dims < 2 or a point count that does not match.
 TetMesh tetrahedralize_structured(const StructuredGrid& grid);
 
 }  // namespace uvr

@@ -123,8 +123,16 @@ std::string_view TextScanner::line_rest()
 
 void TextScanner::set_offset(std::size_t pos)
 {
-    pos_ = std::min(pos, text_.size());
-    line_ = 1 + static_cast<long>(std::count(text_.begin(), text_.begin() + static_cast<long>(pos_), '\n'));
+    pos = std::min(pos, text_.size());
+    // Count only the newlines between the old and the new position, so skipping forward over many binary blocks
+    // stays linear in the file size.
+    const auto b = text_.begin();
+    if (pos >= pos_)
+        line_ += static_cast<long>(std::count(b + static_cast<long>(pos_), b + static_cast<long>(pos), '\n'));
+    else
+        line_ -= static_cast<long>(std::count(b + static_cast<long>(pos), b + static_cast<long>(pos_), '\n'));
+    pos_ = pos;
+    token_line_ = line_;
 }
 
 void TextScanner::fail(const std::string& what) const

@@ -91,7 +91,7 @@ public:
     int64_t integer(const char* what);     // throws "expected <what> (an integer), found '<tok>'"
     double real(const char* what);         // accepts nan/inf spellings so that validation can name them
     std::string_view line_rest();          // the rest of the current line (without the newline), advancing past it
-    long line() const { return line_; }    // 1-based line of the last token returned
+    long line() const { return token_line_; }  // 1-based line of the last token (or line_rest) returned
     std::size_t offset() const { return pos_; }  // byte offset just past the last token
     void set_offset(std::size_t pos);      // (re)positions, recounting lines
     [[noreturn]] void fail(const std::string& what) const;  // InputError(file, line, what)

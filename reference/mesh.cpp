@@ -27,7 +27,39 @@ std::string fmt_point(const glm::dvec3& p)
 
 }  // namespace
 
-std::size_t finalize_mesh(TetMesh& mesh)
+namespace {
+
+// |6V| and the longest edge cubed, for the degeneracy criterion.
+void volume_and_scale(const TetMesh& mesh, const Tet& tet, double& v6, double& l3)
+{
+    const glm::dvec3* p[4] = {&mesh.points[tet[0]], &mesh.points[tet[1]], &mesh.points[tet[2]], &mesh.points[tet[3]]};
+    v6 = signed_volume6(*p[0], *p[1], *p[2], *p[3]);
+    double l2 = 0.0;
+    for (int a = 0; a < 4; ++a)
+        for (int b = a + 1; b < 4; ++b) {
+            const glm::dvec3 e = *p[b] - *p[a];
+            l2 = std::max(l2, e.x * e.x + e.y * e.y + e.z * e.z);
+        }
+    l3 = l2 * std::sqrt(l2);
+}
+
+}  // namespace
+
+bool is_degenerate(const TetMesh& mesh, const Tet& t)
+{
+    double v6, l3;
+    volume_and_scale(mesh, t, v6, l3);
+    return !(std::fabs(v6) > kDegenerateRelativeVolume * l3);
+}
+
+std::size_t count_degenerate(const TetMesh& mesh)
+{
+    std::size_t n = 0;
+    for (const Tet& t : mesh.tets) n += is_degenerate(mesh, t) ? 1 : 0;
+    return n;
+}
+
+std::size_t finalize_mesh(TetMesh& mesh, DegenerateCells degenerate)
 {
     const std::string& file = mesh.source;
     if (mesh.tets.empty()) throw InputError(file, "the mesh has no tetrahedron");
@@ -58,21 +90,14 @@ std::size_t finalize_mesh(TetMesh& mesh)
                 if (tet[a] == tet[b])
                     throw InputError(file, "tetrahedron " + std::to_string(t) + " repeats point " +
                                                std::to_string(tet[a]) + " (a degenerate cell)");
-        const glm::dvec3 &p0 = mesh.points[tet[0]], &p1 = mesh.points[tet[1]], &p2 = mesh.points[tet[2]],
-                         &p3 = mesh.points[tet[3]];
-        const double v6 = signed_volume6(p0, p1, p2, p3);
-        double l2 = 0.0;
-        const glm::dvec3* p[4] = {&p0, &p1, &p2, &p3};
-        for (int a = 0; a < 4; ++a)
-            for (int b = a + 1; b < 4; ++b) {
-                const glm::dvec3 e = *p[b] - *p[a];
-                l2 = std::max(l2, e.x * e.x + e.y * e.y + e.z * e.z);
-            }
-        const double l3 = l2 * std::sqrt(l2);
-        if (!(std::fabs(v6) > kDegenerateRelativeVolume * l3))
+        double v6, l3;
+        volume_and_scale(mesh, tet, v6, l3);
+        if (!(std::fabs(v6) > kDegenerateRelativeVolume * l3)) {
+            if (degenerate == DegenerateCells::keep) continue;
             throw InputError(file, "tetrahedron " + std::to_string(t) + " (points " + std::to_string(tet[0]) + " " +
                                        std::to_string(tet[1]) + " " + std::to_string(tet[2]) + " " +
                                        std::to_string(tet[3]) + ") has zero volume (a degenerate cell)");
+        }
         if (v6 < 0.0) {
             std::swap(tet[2], tet[3]);
             ++flipped;

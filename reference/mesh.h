@@ -5,8 +5,9 @@
 // there is no cached state that can go stale.
 //
 // Invariants after finalize_mesh(): every index is in range, every coordinate and scalar is finite, every tetrahedron
-// has strictly positive signed volume (vertex 3 on the positive side of the plane through 0, 1, 2 with normal
-// (p1-p0)x(p2-p0)), and the field value arrays have one value per point.
+// has four distinct points and strictly positive signed volume (vertex 3 on the positive side of the plane through 0,
+// 1, 2 with normal (p1-p0)x(p2-p0)) unless it is a degenerate cell kept from a structured grid (see DegenerateCells),
+// and the field value arrays have one value per point.
 #pragma once
 
 #include <array>
@@ -48,11 +49,21 @@ double signed_volume6(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3
 // of relative volume 1e-12 (issue 10's case) is still accepted as a real cell.
 inline constexpr double kDegenerateRelativeVolume = 1e-14;
 
+// What finalize_mesh does with a zero-volume tetrahedron. Files of unstructured cells reject it (a broken cell). The
+// split of a structured grid keeps it: curvilinear grids collapse hexahedra on purpose (Blunt Fin's 39 cells along
+// its symmetry line have coincident points), the classic tetrahedral meshes of those grids keep the cells (187,395
+// tetrahedra for Blunt Fin, of which 77 are flat), and a flat cell covers no volume, so it changes no image.
+enum class DegenerateCells { reject, keep };
+
+// True when the tetrahedron is degenerate by the criterion above.
+bool is_degenerate(const TetMesh& mesh, const Tet& t);
+std::size_t count_degenerate(const TetMesh& mesh);
+
 // Checks the invariants above and re-orients inverted tetrahedra (swaps vertices 2 and 3). Throws InputError naming
-// mesh.source and the offending cell or point: index out of range, a repeated vertex, a degenerate tetrahedron, a
-// non-finite coordinate or scalar, a field of the wrong length, a mesh with no tetrahedron.
-// Returns the number of tetrahedra that were re-oriented.
-std::size_t finalize_mesh(TetMesh& mesh);
+// mesh.source and the offending cell or point: index out of range, a repeated vertex, a degenerate tetrahedron (unless
+// kept), a non-finite coordinate or scalar, a field of the wrong length, a mesh with no tetrahedron. Kept degenerate
+// tetrahedra are left as they are (they have no orientation). Returns the number of tetrahedra re-oriented.
+std::size_t finalize_mesh(TetMesh& mesh, DegenerateCells degenerate = DegenerateCells::reject);
 
 Bounds mesh_bounds(const TetMesh& mesh);
 

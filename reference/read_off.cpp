@@ -89,8 +89,8 @@ Dataset read_off(const std::string& path)
     // Each vertex line holds at least "x y z\n" (6 bytes) and each cell line "4 a b c d\n" (10 bytes).
     if (uint64_t(nverts) > text.size() / 6 || uint64_t(ncells) > text.size() / 10 ||
         uint64_t(nverts) * 6 + uint64_t(ncells) * 10 > text.size())
-        lr.fail("the counts claim " + std::to_string(nverts) + " vertices and " + std::to_string(ncells) +
-                " cells, but the file (" + std::to_string(text.size()) + " bytes) is far too small to hold them");
+        lr.fail("the counts declare " + std::to_string(nverts) + " vertices and " + std::to_string(ncells) +
+                " cells, but the file (" + std::to_string(text.size()) + " bytes) is too small to hold them");
 
     Dataset result;
     TetMesh mesh;

@@ -103,7 +103,8 @@ std::string read_unwrapped(const std::string& path, bool& big_endian)
 GridLayout detect_grid_layout(const std::string& data, const std::string& path, bool preferred_big_endian)
 {
     const uint64_t size = data.size();
-    if (size < 12) throw InputError(path, "truncated: " + std::to_string(size) + " bytes is too short for a PLOT3D header");
+    if (size < 12)
+        throw InputError(path, "truncated: " + std::to_string(size) + " bytes is too short for a PLOT3D header");
 
     std::vector<GridLayout> matches;
     int multi_grid_count = 0;
@@ -117,10 +118,10 @@ GridLayout detect_grid_layout(const std::string& data, const std::string& path, 
                     if (need == size) matches.push_back({be, grid_count, precision, iblank, dims});
                 }
         };
-        consider(false, 0, dims_at(data, 0, be));
+        consider(false, 12, dims_at(data, 0, be));
         int32_t grids = int_at(data, 0, be);
-        if (grids == 1 && size >= 16) consider(true, 4, dims_at(data, 4, be));
-        if (grids > 1 && uint64_t(grids) <= size / 12) {
+        if (grids == 1 && size >= 16) consider(true, 16, dims_at(data, 4, be));
+        if (grids > 1 && uint64_t(grids) <= (size - 4) / 12) {
             // A multi-grid file: recognise it (so the user hears the real reason) but do not read it.
             uint64_t need = 4 + 12 * uint64_t(grids), points = 0;
             bool plausible = true;
@@ -140,22 +141,23 @@ GridLayout detect_grid_layout(const std::string& data, const std::string& path, 
                                    " grids); uvr reads single-grid files only");
 
     // Explain with the reading most likely intended: the byte order whose header gives positive dimensions.
-    Dims dims = dims_at(data, 0, preferred_big_endian);
+    auto positive = [](const Dims& d) { return d[0] > 0 && d[1] > 0 && d[2] > 0; };
     bool be = preferred_big_endian;
-    if (!point_count(dims, UINT64_MAX)) {
-        Dims other = dims_at(data, 0, !be);
-        if (point_count(other, UINT64_MAX)) dims = other, be = !be;
+    Dims dims = dims_at(data, 0, be);
+    if (!positive(dims) && positive(dims_at(data, 0, !be))) {
+        be = !be;
+        dims = dims_at(data, 0, be);
     }
-    if (!point_count(dims, UINT64_MAX))
+    if (!positive(dims))
         throw InputError(path, "not a PLOT3D grid file: the header's dimensions " + dims_text(dims) +
                                    " are not positive in either byte order");
     long double n = static_cast<long double>(dims[0]) * dims[1] * dims[2];
     char need[160];
     std::snprintf(need, sizeof need, "%.0Lf bytes (single precision), %.0Lf (with iblank) or %.0Lf (double precision)",
                   12 + 12 * n, 12 + 16 * n, 12 + 24 * n);
-    throw InputError(path, "truncated or not a PLOT3D whole-file grid: the header gives a " + dims_text(dims) + " grid (" +
-                               (be ? "big" : "little") + "-endian), which needs " + need + ", but the file holds " +
-                               std::to_string(size) + " bytes");
+    throw InputError(path, "truncated or not a PLOT3D whole-file grid: the header gives a " + dims_text(dims) +
+                               " grid (" + (be ? "big" : "little") + "-endian), which needs " + need +
+                               ", but the file holds " + std::to_string(size) + " bytes");
 }
 
 template <class T>
@@ -203,7 +205,8 @@ uint64_t q_header(const std::string& data, const std::string& q_path, const std:
                   const GridLayout& grid, bool& big_endian)
 {
     if (data.size() < 12)
-        throw InputError(q_path, "truncated: " + std::to_string(data.size()) + " bytes is too short for a PLOT3D header");
+        throw InputError(q_path,
+                         "truncated: " + std::to_string(data.size()) + " bytes is too short for a PLOT3D header");
     for (bool be : {grid.big_endian, !grid.big_endian}) {
         if (dims_at(data, 0, be) == grid.dims) {
             big_endian = be;

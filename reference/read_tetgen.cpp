@@ -58,7 +58,8 @@ int64_t read_node(const std::string& path, TetMesh& mesh)
                     std::to_string(p));
         int64_t index = sc.integer("point index");
         if (p == 0) {
-            if (index != 0 && index != 1) sc.fail("the first point must be numbered 0 or 1, found " + std::to_string(index));
+            if (index != 0 && index != 1)
+                sc.fail("the first point must be numbered 0 or 1, found " + std::to_string(index));
             base = index;
         } else if (index != base + p) {
             sc.fail("points must be numbered consecutively: expected point " + std::to_string(base + p) + ", found " +

@@ -43,19 +43,47 @@ std::string face_text(const std::array<uint32_t, 3>& k)
 
 }  // namespace
 
+std::vector<uint32_t> canonical_points(const std::vector<glm::dvec3>& points)
+{
+    std::vector<uint32_t> order(points.size());
+    std::iota(order.begin(), order.end(), 0u);
+    auto key = [&](uint32_t i) { return std::make_tuple(points[i].x, points[i].y, points[i].z); };
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        const auto ka = key(a), kb = key(b);
+        return ka != kb ? ka < kb : a < b;
+    });
+    std::vector<uint32_t> canon(points.size());
+    for (std::size_t r = 0; r < order.size();) {
+        std::size_t e = r + 1;
+        while (e < order.size() && key(order[e]) == key(order[r])) ++e;
+        for (std::size_t k = r; k < e; ++k) canon[order[k]] = order[r];  // order[r] is the smallest index
+        r = e;
+    }
+    return canon;
+}
+
 MeshTopology build_topology(const TetMesh& mesh)
 {
     const std::size_t nt = mesh.tets.size();
+    MeshTopology topo;
+    topo.canonical = canonical_points(mesh.points);
     std::vector<FaceRef> refs;
     refs.reserve(nt * 4);
-    for (std::size_t t = 0; t < nt; ++t)
-        for (int i = 0; i < 4; ++i)
-            refs.push_back({sorted3(tet_face(mesh.tets[t], i)), static_cast<uint32_t>(t), static_cast<uint8_t>(i)});
+    for (std::size_t t = 0; t < nt; ++t) {
+        if (is_degenerate(mesh, mesh.tets[t])) {
+            ++topo.flat_tets;
+            continue;
+        }
+        for (int i = 0; i < 4; ++i) {
+            auto f = tet_face(mesh.tets[t], i);
+            for (auto& v : f) v = topo.canonical[v];
+            refs.push_back({sorted3(f), static_cast<uint32_t>(t), static_cast<uint8_t>(i)});
+        }
+    }
     std::sort(refs.begin(), refs.end(), [](const FaceRef& a, const FaceRef& b) {
         return a.key != b.key ? a.key < b.key : (a.tet != b.tet ? a.tet < b.tet : a.local < b.local);
     });
 
-    MeshTopology topo;
     topo.tet_faces.assign(nt, {-1, -1, -1, -1});
     topo.neighbor.assign(nt, {-1, -1, -1, -1});
     topo.faces.reserve(nt * 2 + nt / 4);
@@ -114,7 +142,8 @@ std::vector<BoundaryEdge> boundary_edges_sorted(const MeshTopology& topo)
         const Face& face = topo.faces[f];
         if (!face.boundary()) continue;
         for (int i = 0; i < 3; ++i)
-            edges.push_back({face.v[i], face.v[(i + 1) % 3], static_cast<uint32_t>(f), face.v[(i + 2) % 3]});
+            edges.push_back({topo.canonical[face.v[i]], topo.canonical[face.v[(i + 1) % 3]], static_cast<uint32_t>(f),
+                             face.v[(i + 2) % 3]});
     }
     // Group each undirected edge: key (min, max), then direction, then face.
     std::sort(edges.begin(), edges.end(), [](const BoundaryEdge& x, const BoundaryEdge& y) {
@@ -137,9 +166,23 @@ std::size_t boundary_open_edges(const MeshTopology& topo)
     const auto edges = boundary_edges_sorted(topo);
     std::size_t bad = 0;
     for (std::size_t r = 0; r < edges.size();) {
+        std::size_t e = r;
+        long balance = 0;
+        for (; e < edges.size() && same_edge(edges[e], edges[r]); ++e) balance += edges[e].a < edges[e].b ? 1 : -1;
+        if (balance != 0) ++bad;
+        r = e;
+    }
+    return bad;
+}
+
+std::size_t boundary_nonmanifold_edges(const MeshTopology& topo)
+{
+    const auto edges = boundary_edges_sorted(topo);
+    std::size_t bad = 0;
+    for (std::size_t r = 0; r < edges.size();) {
         std::size_t e = r + 1;
         while (e < edges.size() && same_edge(edges[e], edges[r])) ++e;
-        if (e - r != 2 || edges[r].a == edges[r + 1].a) ++bad;
+        if (e - r != 2) ++bad;
         r = e;
     }
     return bad;

@@ -2,7 +2,13 @@
 //
 // Face f of tetrahedron t is the face opposite its vertex f (it uses the other three). A unique face records the tets
 // on either side; boundary faces have tet[1] = -1 and their vertices ordered so that (v1-v0)x(v2-v0) points out of the
-// mesh. The ray walker (ground truth) steps through `neighbor`, HAVS sorts `faces`, the convexity flag tells the GPU
+// mesh.
+//
+// Two things make the face graph of real meshes differ from their index graph. Points with bit-identical coordinates
+// are one point for adjacency (a file may repeat a point; a curvilinear grid collapses cells on purpose), so faces are
+// matched by canonical point (the smallest index at that position). And flat tetrahedra kept from collapsed grid cells
+// (DegenerateCells::keep) cover no volume, so they are left out of the face graph: their tet_faces and neighbors are
+// all -1, and the real tetrahedra on either side of them meet directly. The ray walker (ground truth) steps through `neighbor`, HAVS sorts `faces`, the convexity flag tells the GPU
 // algorithms whether gaps can occur.
 #pragma once
 
@@ -21,11 +27,13 @@ struct Face {
 };
 
 struct MeshTopology {
-    std::vector<Face> faces;                      // sorted by their smallest vertex triple: deterministic
+    std::vector<uint32_t> canonical;              // per point: the smallest index of a point at the same position
+    std::vector<Face> faces;                      // sorted by their canonical vertex triple: deterministic
     std::vector<std::array<int32_t, 4>> tet_faces;  // face index of the face opposite each vertex
     std::vector<std::array<int32_t, 4>> neighbor;   // tet across the face opposite each vertex, -1 on the boundary
     std::size_t boundary_faces = 0;
     std::size_t internal_faces = 0;
+    std::size_t flat_tets = 0;                    // degenerate tetrahedra left out of the face graph
 };
 
 // Throws InputError naming mesh.source and the face (its three points and the tetrahedra) when a face is shared by more
@@ -50,8 +58,14 @@ inline constexpr double kConvexityTolerance = 1e-9;
 double boundary_enclosed_volume(const TetMesh& mesh, const MeshTopology& topo);
 double total_tet_volume(const TetMesh& mesh);
 
-// Every boundary edge is shared by exactly two boundary faces that traverse it in opposite directions (a closed,
-// consistently oriented surface). Returns the number of edges that violate this (0 for a valid mesh).
+// A closed, consistently oriented boundary traverses every edge (between canonical points) as often in one direction
+// as in the other. Returns the number of edges where the two counts differ (0 for a valid mesh). Usually each edge
+// has exactly two faces; a non-conforming interface, such as the periodic seam of an O-grid split into tetrahedra by
+// alternating parity with an odd number of cells around, is geometrically closed but gives its edges four boundary
+// faces, balanced two and two.
 std::size_t boundary_open_edges(const MeshTopology& topo);
+
+// Boundary edges with other than two faces (counted once per edge).
+std::size_t boundary_nonmanifold_edges(const MeshTopology& topo);
 
 }  // namespace uvr

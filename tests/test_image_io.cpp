@@ -62,7 +62,7 @@ TEST_CASE("a .npy that is not float32 RGBA is rejected")
                         {"cut.npy", "data bytes"});
 }
 
-TEST_CASE("--size parses WxH and rejects anything else")
+TEST_CASE("the size option parses WxH and rejects anything else")
 {
     int w = 0, h = 0;
     parse_size("640x480", w, h);
