@@ -1,5 +1,6 @@
 #include "reference/special_functions.h"
 
+#include <array>
 #include <cmath>
 
 namespace uvr {
@@ -60,11 +61,14 @@ double dawson(double x)
     const double e2 = e1 * e1;
     double d1 = n0 + 1, d2 = d1 - 2.0;
     double up = e1, down = 1.0 / e1;  // exp(2 xp h m) for m = +1, and exp(-2 xp h m) for m = +1
+    static const auto c = [] {
+        std::array<double, kTerms> t{};
+        for (int i = 0; i < kTerms; ++i) t[std::size_t(i)] = std::exp(-((2 * i + 1) * h) * ((2 * i + 1) * h));
+        return t;
+    }();
     double sum = 0.0;
     for (int i = 0; i < kTerms; ++i) {
-        const int m = 2 * i + 1;
-        const double c = std::exp(-(m * h) * (m * h));
-        sum += c * (up / d1 + down / d2);
+        sum += c[std::size_t(i)] * (up / d1 + down / d2);
         d1 += 2.0;
         d2 -= 2.0;
         up *= e2;

@@ -1,0 +1,40 @@
+// What every rendering command sets up the same way: the data, the field, the transfer function, the camera, the size.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "bench/options.h"
+#include "reference/camera.h"
+#include "reference/topology.h"
+#include "reference/transfer_function.h"
+
+namespace uvr::cli {
+
+struct SceneOptions {
+    InputOptions input;
+    std::string tf_path;
+    std::string camera_path;
+    std::string view;              // "AZ,EL" in degrees
+    std::string size = "512x512";
+};
+
+// Adds the input options plus --tf, --camera, --view, --size.
+void add_scene_options(CLI::App& cmd, SceneOptions& o);
+
+struct Scene {
+    Dataset data;
+    std::size_t field = 0;
+    TransferFunction tf;
+    Camera camera;
+    int width = 0, height = 0;
+    std::unique_ptr<MeshTopology> topology;  // meshes only
+    const TetMesh& mesh() const { return *data.mesh; }
+};
+
+// Loads and validates everything; throws InputError for anything wrong (a --camera and a --view together, say).
+Scene setup_scene(const SceneOptions& o);
+
+}  // namespace uvr::cli

@@ -1,0 +1,249 @@
+#include "reference/ray_integrator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <embree3/rtcore.h>
+#include <glm/geometric.hpp>
+
+#include "reference/error.h"
+
+namespace uvr {
+
+namespace {
+
+// Outward normal (not normalized) of face i of a positively oriented tetrahedron, and a point on it.
+glm::dvec3 face_normal(const TetMesh& m, const std::array<uint32_t, 3>& f)
+{
+    return glm::cross(m.points[f[1]] - m.points[f[0]], m.points[f[2]] - m.points[f[0]]);
+}
+
+}  // namespace
+
+// Embree holds the boundary faces as float triangles, shifted by the bounds' centre so that float keeps as many bits
+// as it can of the geometry. It is asked only "which boundary face does the ray enter next"; every distance the
+// integral uses is recomputed in double from that face's plane.
+struct RayIntegrator::Embree {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    glm::dvec3 shift{0.0};
+    std::vector<int32_t> face_of_prim;  // Embree primitive -> index into topo.faces
+    double slack = 0.0;                 // how far before t_min a re-entry may lie (rounding of coplanar faces)
+    double scale = 0.0;                 // the bounds' diagonal
+
+    ~Embree()
+    {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+};
+
+namespace {
+
+// The intersect context carries what the filter needs to accept only faces the ray really enters next.
+struct EntryContext {
+    RTCIntersectContext base;  // first member: Embree hands the filter a pointer to it
+    const TetMesh* mesh;
+    const MeshTopology* topo;
+    const std::vector<int32_t>* face_of_prim;
+    glm::dvec3 origin, dir;
+    double t_min, slack;
+    const std::vector<int32_t>* used;  // boundary faces this ray already entered or left through
+};
+
+void entry_filter(const RTCFilterFunctionNArguments* args)
+{
+    auto* ctx = reinterpret_cast<EntryContext*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (!args->valid[i]) continue;
+        const int32_t face = (*ctx->face_of_prim)[RTCHitN_primID(args->hit, args->N, i)];
+        const Face& f = ctx->topo->faces[std::size_t(face)];
+        const glm::dvec3 n = face_normal(*ctx->mesh, f.v);
+        const double dn = glm::dot(n, ctx->dir);
+        bool ok = dn < 0.0;  // entering: against the outward normal
+        if (ok) {
+            const double t = glm::dot(n, ctx->mesh->points[f.v[0]] - ctx->origin) / dn;
+            ok = t >= ctx->t_min - ctx->slack &&
+                 std::find(ctx->used->begin(), ctx->used->end(), face) == ctx->used->end();
+        }
+        if (!ok) args->valid[i] = 0;
+    }
+}
+
+}  // namespace
+
+RayIntegrator::RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
+                             const TransferFunction& tf)
+    : mesh_(mesh), topo_(topo), field_(mesh.fields.at(field)), segment_(tf), embree_(std::make_unique<Embree>())
+{
+    // Gradient of the linear field in each tetrahedron: solve [e1; e2; e3] g = ds by Cramer's rule.
+    gradient_.resize(mesh.tets.size(), glm::dvec3(0.0));
+    for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
+        const Tet& tet = mesh.tets[t];
+        const glm::dvec3 p0 = mesh.points[tet[0]];
+        const glm::dvec3 e1 = mesh.points[tet[1]] - p0, e2 = mesh.points[tet[2]] - p0, e3 = mesh.points[tet[3]] - p0;
+        const double s0 = field_.values[tet[0]];
+        const glm::dvec3 ds(field_.values[tet[1]] - s0, field_.values[tet[2]] - s0, field_.values[tet[3]] - s0);
+        const double det = glm::dot(e1, glm::cross(e2, e3));
+        if (det == 0.0) continue;  // a flat cell: never entered
+        // Rows of the inverse of [e1; e2; e3] are the columns (e2 x e3, e3 x e1, e1 x e2) / det.
+        gradient_[t] = (ds.x * glm::cross(e2, e3) + ds.y * glm::cross(e3, e1) + ds.z * glm::cross(e1, e2)) / det;
+    }
+
+    Embree& E = *embree_;
+    E.device = rtcNewDevice(nullptr);
+    if (!E.device) throw InputError(mesh.source, "Embree could not create a device");
+    E.scene = rtcNewScene(E.device);
+    rtcSetSceneFlags(E.scene, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
+    rtcSetSceneBuildQuality(E.scene, RTC_BUILD_QUALITY_HIGH);
+    const Bounds b = mesh_bounds(mesh);
+    E.shift = b.center();
+    // Coplanar faces of a non-conforming interface give the same plane parameter to a few ulps of the scene size.
+    E.slack = 1e-12 * (glm::length(b.extent()) + glm::length(b.center()));
+    E.scale = glm::length(b.extent());
+    RTCGeometry geom = rtcNewGeometry(E.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                           3 * sizeof(float), mesh.points.size()));
+    for (std::size_t i = 0; i < mesh.points.size(); ++i) {
+        const glm::dvec3 p = mesh.points[i] - E.shift;
+        vb[3 * i] = float(p.x);
+        vb[3 * i + 1] = float(p.y);
+        vb[3 * i + 2] = float(p.z);
+    }
+    for (std::size_t f = 0; f < topo.faces.size(); ++f)
+        if (topo.faces[f].boundary()) E.face_of_prim.push_back(int32_t(f));
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                              3 * sizeof(unsigned), E.face_of_prim.size()));
+    for (std::size_t k = 0; k < E.face_of_prim.size(); ++k) {
+        // Welded points share one float vertex, so Embree sees the surface as closed where the mesh is.
+        const Face& f = topo.faces[std::size_t(E.face_of_prim[k])];
+        for (int j = 0; j < 3; ++j) ib[3 * k + j] = topo.canonical[f.v[j]];
+    }
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(E.scene, geom);
+    rtcReleaseGeometry(geom);
+    rtcCommitScene(E.scene);
+}
+
+RayIntegrator::~RayIntegrator() = default;
+
+double RayIntegrator::scalar_at(uint32_t t, const glm::dvec3& p) const
+{
+    const uint32_t v0 = mesh_.tets[t][0];
+    return field_.values[v0] + glm::dot(gradient_[t], p - mesh_.points[v0]);
+}
+
+int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, glm::dvec4& acc, double& t_out,
+                            RayStats& stats) const
+{
+    const Face& entry = topo_.faces[std::size_t(face)];
+    uint32_t tet = uint32_t(entry.tet[0]);
+    int entry_local = 0;
+    while (topo_.tet_faces[tet][entry_local] != face) ++entry_local;
+    double s_in = scalar_at(tet, ray.origin + t_in * ray.dir);
+    int zero_steps = 0;
+    for (;;) {
+        const Tet& T = mesh_.tets[tet];
+        // Exit: among the faces the ray leaves through (outward normal along the ray), the plane it crosses first.
+        // Ties (the ray through an edge or a vertex) go to the lowest local face index; a pass through the edge's
+        // other tetrahedra then has zero length and moves on round the edge.
+        int exit_local = -1;
+        double t_exit = std::numeric_limits<double>::infinity();
+        for (int i = 0; i < 4; ++i) {
+            if (i == entry_local) continue;
+            const auto f = tet_face(T, i);
+            const glm::dvec3 n = face_normal(mesh_, f);
+            const double dn = glm::dot(n, ray.dir);
+            if (!(dn > 0.0)) continue;
+            const double t = glm::dot(n, mesh_.points[f[0]] - ray.origin) / dn;
+            if (t < t_exit) {
+                t_exit = t;
+                exit_local = i;
+            }
+        }
+        ++stats.segments;
+        if (exit_local < 0) {
+            // Only possible for a ray lying in the entry face's plane with rounding against it; abandon the ray.
+            ++stats.failures;
+            t_out = t_in;
+            return -1;
+        }
+        const double t1 = std::max(t_in, t_exit);
+        const double s_out = scalar_at(tet, ray.origin + t1 * ray.dir);
+        if (t1 > t_in) {
+            acc = composite_over(acc, segment_.integrate(s_in, s_out, t1 - t_in));
+            zero_steps = 0;
+        } else if (++zero_steps > kMaxZeroLengthSteps) {
+            ++stats.failures;
+            t_out = t1;
+            return -1;
+        }
+        const int32_t exit_face = topo_.tet_faces[tet][exit_local];
+        const int32_t next = topo_.neighbor[tet][exit_local];
+        t_in = t1;
+        if (next < 0 || acc.a >= kReferenceOpaque) {
+            t_out = t1;
+            return exit_face;
+        }
+        tet = uint32_t(next);
+        entry_local = 0;
+        while (topo_.tet_faces[tet][entry_local] != exit_face) ++entry_local;
+        s_in = scalar_at(tet, ray.origin + t_in * ray.dir);
+    }
+}
+
+glm::dvec4 RayIntegrator::integrate(const Ray& ray, RayStats& stats) const
+{
+    const Embree& E = *embree_;
+    glm::dvec4 acc(0.0);
+    std::vector<int32_t> used;
+    double t_min = 0.0;
+    const glm::dvec3 o = ray.origin - E.shift;
+    for (;;) {
+        EntryContext ctx;
+        rtcInitIntersectContext(&ctx.base);
+        ctx.base.filter = entry_filter;
+        ctx.mesh = &mesh_;
+        ctx.topo = &topo_;
+        ctx.face_of_prim = &E.face_of_prim;
+        ctx.origin = ray.origin;
+        ctx.dir = ray.dir;
+        ctx.t_min = t_min;
+        ctx.slack = E.slack;
+        ctx.used = &used;
+        RTCRayHit rh;
+        rh.ray.org_x = float(o.x);
+        rh.ray.org_y = float(o.y);
+        rh.ray.org_z = float(o.z);
+        rh.ray.dir_x = float(ray.dir.x);
+        rh.ray.dir_y = float(ray.dir.y);
+        rh.ray.dir_z = float(ray.dir.z);
+        // Embree's float distances may be off by some float ulps of the distances involved: start the search early by
+        // far more than that (1e-5 relative; float carries 6e-8) and let the filter decide in double.
+        rh.ray.tnear = float(std::max(0.0, t_min - 1e-5 * (E.scale + t_min + glm::length(o))));
+        rh.ray.tfar = std::numeric_limits<float>::infinity();
+        rh.ray.mask = 0xFFFFFFFFu;
+        rh.ray.flags = 0;
+        rh.ray.time = 0.0f;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(E.scene, &ctx.base, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
+        const int32_t face = E.face_of_prim[rh.hit.primID];
+        // The filter may have accepted several candidates on the way; Embree returns the nearest in float, and its
+        // parameter is recomputed in double here.
+        const Face& f = topo_.faces[std::size_t(face)];
+        const glm::dvec3 n = face_normal(mesh_, f.v);
+        const double t_in = std::max(t_min, glm::dot(n, mesh_.points[f.v[0]] - ray.origin) / glm::dot(n, ray.dir));
+        used.push_back(face);
+        ++stats.entries;
+        double t_out = t_in;
+        const int32_t left = walk(ray, face, t_in, acc, t_out, stats);
+        if (left < 0 || acc.a >= kReferenceOpaque) break;
+        used.push_back(left);
+        t_min = t_out;
+    }
+    return acc;
+}
+
+}  // namespace uvr

@@ -1,0 +1,66 @@
+// The ground truth: exact emission-absorption integration along rays through a tetrahedral mesh.
+//
+// Embree finds where a ray enters the mesh through its boundary (and re-enters a non-convex mesh); inside, the ray
+// walks from tetrahedron to tetrahedron through shared faces in double precision. In each tetrahedron the scalar is
+// linear, so each step is one segment of SPEC §1, integrated in closed form (segment_integral.h) and composited front
+// to back. See docs/reference.md for the exit-face rule, the tie-breaking and why the walk is watertight.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "reference/camera.h"
+#include "reference/mesh.h"
+#include "reference/segment_integral.h"
+#include "reference/topology.h"
+
+namespace uvr {
+
+// What one ray did, for diagnostics and benchmarks.
+struct RayStats {
+    uint64_t segments = 0;       // tetrahedra traversed (including zero-length passes through edges and vertices)
+    uint64_t entries = 0;        // times the ray entered the mesh through its boundary
+    uint64_t failures = 0;       // rays abandoned by the walk's guards (must stay 0; reported, never hidden)
+};
+
+class RayIntegrator {
+public:
+    // `field` indexes mesh.fields. The mesh and topology must outlive the integrator.
+    RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf);
+    ~RayIntegrator();
+    RayIntegrator(const RayIntegrator&) = delete;
+    RayIntegrator& operator=(const RayIntegrator&) = delete;
+
+    // Premultiplied RGBA along the ray from t = 0 (the ray's origin) to infinity. Thread-safe.
+    glm::dvec4 integrate(const Ray& ray, RayStats& stats) const;
+
+    // The scalar at world point p inside tetrahedron t (linear interpolation).
+    double scalar_at(uint32_t t, const glm::dvec3& p) const;
+
+private:
+    struct Embree;
+    // The walk from boundary face `face` entered at ray parameter t_in, compositing into acc; returns the boundary
+    // face it leaves through and sets t_out.
+    int32_t walk(const Ray& ray, int32_t face, double t_in, glm::dvec4& acc, double& t_out, RayStats& stats) const;
+
+    const TetMesh& mesh_;
+    const MeshTopology& topo_;
+    const ScalarField& field_;
+    SegmentIntegrator segment_;
+    std::vector<glm::dvec3> gradient_;  // per tetrahedron, of the field
+    std::unique_ptr<Embree> embree_;
+};
+
+// Accumulated alpha beyond which the rest of a ray cannot change any channel by more than 1e-15: the reference stops
+// there (it is not the GPU algorithms' early termination, which SPEC §3 sets with --threshold).
+inline constexpr double kReferenceOpaque = 1.0 - 1e-15;
+
+// Guard against a walk that stops making progress (a ray circling an edge in rounding noise): after this many
+// consecutive zero-length steps the ray is abandoned and counted in RayStats::failures.
+inline constexpr int kMaxZeroLengthSteps = 256;
+
+}  // namespace uvr
