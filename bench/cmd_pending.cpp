@@ -27,7 +27,6 @@ void register_pending(CLI::App& app)
     pending(app, "compare", "Render with several algorithms and measure each against the reference",
             "it needs the reference renderer and at least one GPU algorithm");
     pending(app, "sweep", "Error of HAVS against the k-buffer size k", "it needs the HAVS emulation");
-    pending(app, "bench", "Time each algorithm and stage", "it needs at least one renderer");
 }
 
 }  // namespace uvr::cli

@@ -16,6 +16,7 @@ int main(int argc, char** argv)
     app.set_version_flag("--version", "uvr 0.1");
     register_info(app);
     register_render(app);
+    register_bench(app);
     register_pending(app);
     register_demo(app);
     try {

@@ -1,0 +1,136 @@
+// `uvr bench MESH [--algos LIST]`: timings of each algorithm, each stage apart (SPEC §3). Medians over repetitions
+// after a warm-up; the JSON carries every repetition's figures and a description of the machine.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <sys/resource.h>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/commands.h"
+#include "bench/scene.h"
+#include "reference/error.h"
+#include "reference/reference_renderer.h"
+
+namespace uvr::cli {
+
+namespace {
+
+struct BenchArgs {
+    SceneOptions scene;
+    std::string algos = "reference";
+    int repeat = 5;
+    int warmup = 1;
+    bool json = false;
+};
+
+double median(std::vector<double> v)
+{
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n == 0 ? 0.0 : (n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]));
+}
+
+std::string cpu_model()
+{
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    return "unknown";
+}
+
+double peak_rss_mib()
+{
+    rusage ru{};
+    getrusage(RUSAGE_SELF, &ru);
+    return double(ru.ru_maxrss) / 1024.0;  // kilobytes on Linux
+}
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+nlohmann::json bench_reference(const Scene& s, const BenchArgs& a)
+{
+    std::vector<double> setup_ms, frame_ms;
+    ReferenceStats stats;
+    for (int r = 0; r < a.warmup + a.repeat; ++r) {
+        const auto t0 = Clock::now();
+        const RayIntegrator integrator(s.mesh(), *s.topology, s.field, s.tf);
+        const double setup = ms_since(t0);
+        const Image img = render_reference(integrator, s.camera, s.width, s.height, stats);
+        if (stats.failures) throw InputError(s.mesh().source, "rays were abandoned by the walk's guards");
+        if (r >= a.warmup) {
+            setup_ms.push_back(setup);
+            frame_ms.push_back(stats.seconds * 1000.0);
+        }
+    }
+    const double fm = median(frame_ms);
+    nlohmann::json j;
+    j["algo"] = "reference";
+    j["backend"] = "cpu";
+    j["frame_ms"] = fm;
+    j["frame_ms_all"] = frame_ms;
+    j["stages"] = {{"setup", median(setup_ms)}, {"integrate", fm}};
+    j["rays"] = stats.rays;
+    j["segments"] = stats.segments;
+    j["rays_per_s"] = double(stats.rays) / (fm / 1000.0);
+    j["segments_per_s"] = double(stats.segments) / (fm / 1000.0);
+    return j;
+}
+
+}  // namespace
+
+void register_bench(CLI::App& app)
+{
+    auto* cmd = app.add_subcommand("bench", "Time each algorithm and each stage (median over repetitions)");
+    auto a = std::make_shared<BenchArgs>();
+    add_scene_options(*cmd, a->scene);
+    cmd->add_option("--algos,--algo", a->algos, "Comma-separated algorithms (reference)")->capture_default_str();
+    cmd->add_option("--repeat", a->repeat, "Timed repetitions")->capture_default_str()->check(CLI::Range(1, 1000));
+    cmd->add_option("--warmup", a->warmup, "Untimed repetitions first")->capture_default_str()->check(CLI::Range(0, 100));
+    cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
+    cmd->callback([a] {
+        std::vector<std::string> algos;
+        std::stringstream ss(a->algos);
+        for (std::string x; std::getline(ss, x, ',');)
+            if (!x.empty()) algos.push_back(x);
+        for (const auto& x : algos)
+            if (x != "reference")
+                throw InputError("", "--algos " + x + " is not available yet: only the reference has landed");
+        const auto t0 = Clock::now();
+        const Scene s = setup_scene(a->scene);
+        const double load_ms = ms_since(t0);
+        nlohmann::json out;
+        out["mesh"] = a->scene.input.path;
+        out["tetrahedra"] = s.mesh().tets.size();
+        out["width"] = s.width;
+        out["height"] = s.height;
+        out["load_ms"] = load_ms;
+        out["machine"] = {{"cpu", cpu_model()}, {"threads", std::thread::hardware_concurrency()}};
+        out["results"] = nlohmann::json::array();
+        for (const auto& x : algos)
+            if (x == "reference") out["results"].push_back(bench_reference(s, *a));
+        out["peak_rss_mib"] = peak_rss_mib();
+        out["bytes_per_tet"] = peak_rss_mib() * 1024.0 * 1024.0 / double(s.mesh().tets.size());
+        if (a->json) {
+            std::printf("%s\n", out.dump(1).c_str());
+            return;
+        }
+        std::printf("%s: %zu tetrahedra, %dx%d, %s (%u threads)\n", a->scene.input.path.c_str(), s.mesh().tets.size(),
+                    s.width, s.height, cpu_model().c_str(), std::thread::hardware_concurrency());
+        for (const auto& r : out["results"])
+            std::printf("  %-10s %-4s %9.1f ms/frame  %6.2f Mrays/s  %6.2f Msegments/s  (setup %.1f ms)\n",
+                        r["algo"].get<std::string>().c_str(), r["backend"].get<std::string>().c_str(),
+                        r["frame_ms"].get<double>(), r["rays_per_s"].get<double>() / 1e6,
+                        r["segments_per_s"].get<double>() / 1e6, r["stages"]["setup"].get<double>());
+        std::printf("  peak memory %.1f MiB (%.0f bytes per tetrahedron)\n", out["peak_rss_mib"].get<double>(),
+                    out["bytes_per_tet"].get<double>());
+    });
+}
+
+}  // namespace uvr::cli
