@@ -189,7 +189,8 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, glm::dvec
         tet = uint32_t(next);
         entry_local = 0;
         while (topo_.tet_faces[tet][entry_local] != exit_face) ++entry_local;
-        s_in = scalar_at(tet, ray.origin + t_in * ray.dir);
+        // The field is continuous across the face, so the exit value is the next tetrahedron's entry value.
+        s_in = s_out;
     }
 }
 
