@@ -1,5 +1,9 @@
 // The `uvr` program as a user meets it: help, `info --json` on the real data, errors and exit codes.
+#include <filesystem>
+
 #include <nlohmann/json.hpp>
+
+#include "reference/image.h"
 
 #include "test_support.h"
 
@@ -98,10 +102,63 @@ TEST_CASE("bad input makes uvr exit non-zero with a message naming the file, nev
         const CommandResult r = run_uvr("info");
         CHECK(r.exit_code == 2);
     }
+    SECTION("--camera and --view together")
+    {
+        uvr::test::TempDir tmp("camview");
+        const std::string cam = tmp.write("cam.json", R"({"eye": [0,0,5], "target": [0,0,0]})");
+        const CommandResult r =
+            run_uvr("render builtin:torus-small --camera '" + cam + "' --view 10,10 --out '" + tmp.file("a.npy") + "'");
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains("either --camera or --view"));
+        CHECK_FALSE(std::filesystem::exists(tmp.file("a.npy")));
+    }
+    SECTION("an output that cannot be written leaves nothing behind")
+    {
+        uvr::test::TempDir tmp("unwritable");
+        const CommandResult r = run_uvr("render builtin:torus-small --size 8x8 --no-cache --out '" +
+                                        tmp.file("no/such/dir/a.npy") + "'");
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains("no/such/dir/a.npy") && Catch::Contains("cannot write"));
+        CHECK(std::filesystem::is_empty(tmp.file("")));
+    }
     SECTION("a command whose algorithm has not landed says so")
     {
         const CommandResult r = run_uvr("sweep builtin:torus-small --k 1,2 --report /tmp/x");
         CHECK(r.exit_code == 1);
         CHECK_THAT(r.err, Catch::Contains("not available yet"));
     }
+}
+
+TEST_CASE("uvr render --algo reference writes the image and reuses the cache")
+{
+    uvr::test::TempDir tmp("render");
+    setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
+    const std::string out = tmp.file("ref.npy");
+    const CommandResult first = run_uvr("render builtin:torus-small --algo reference --size 40x30 --json --out '" + out + "'");
+    INFO(first.err);
+    REQUIRE(first.exit_code == 0);
+    const auto j = nlohmann::json::parse(first.out);
+    CHECK(j["cached"] == false);
+    CHECK(j["rays"] == 40 * 30);
+    const uvr::Image img = uvr::read_npy(out);
+    CHECK(img.width == 40);
+    CHECK(img.height == 30);
+    float alpha_max = 0.0f;
+    for (std::size_t k = 3; k < img.rgba.size(); k += 4) alpha_max = std::max(alpha_max, img.rgba[k]);
+    CHECK(alpha_max > 0.1f);  // the torus is in the picture
+    const CommandResult second = run_uvr("render builtin:torus-small --size 40x30 --json --out '" + out + "'");
+    CHECK(nlohmann::json::parse(second.out)["cached"] == true);
+    CHECK(uvr::read_npy(out).rgba == img.rgba);
+    unsetenv("UVR_CACHE_DIR");
+}
+
+TEST_CASE("uvr demo runs with no argument and leaves its images")
+{
+    uvr::test::TempDir tmp("demo");
+    const CommandResult r = run_uvr("demo --out '" + tmp.file("d") + "'");
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK(std::filesystem::exists(tmp.file("d/reference-front.png")));
+    CHECK(std::filesystem::exists(tmp.file("d/reference-oblique.npy")));
+    CHECK(nlohmann::json::parse(uvr::test::file_contents(tmp.file("d/demo.json")))["mesh"]["tetrahedra"] > 50000);
 }
