@@ -17,6 +17,7 @@ int main(int argc, char** argv)
     register_info(app);
     register_render(app);
     register_bench(app);
+    register_export(app);
     register_pending(app);
     register_demo(app);
     try {

@@ -13,7 +13,7 @@ namespace uvr {
 
 namespace {
 
-// Outward normal (not normalized) of face i of a positively oriented tetrahedron, and a point on it.
+// Outward normal (not normalized) of a boundary face.
 glm::dvec3 face_normal(const TetMesh& m, const std::array<uint32_t, 3>& f)
 {
     return glm::cross(m.points[f[1]] - m.points[f[0]], m.points[f[2]] - m.points[f[0]]);
@@ -91,6 +91,18 @@ RayIntegrator::RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std:
         gradient_[t] = (ds.x * glm::cross(e2, e3) + ds.y * glm::cross(e3, e1) + ds.z * glm::cross(e1, e2)) / det;
     }
 
+    next_.assign(mesh.tets.size(), {kNoNeighbor, kNoNeighbor, kNoNeighbor, kNoNeighbor});
+    for (std::size_t t = 0; t < mesh.tets.size(); ++t)
+        for (int i = 0; i < 4; ++i) {
+            const int32_t nb = topo.neighbor[t][i];
+            if (nb < 0) continue;
+            int k = 0;
+            while (topo.tet_faces[std::size_t(nb)][k] != topo.tet_faces[t][i]) ++k;
+            next_[t][i] = (uint32_t(nb) << 2) | uint32_t(k);
+        }
+    if (mesh.tets.size() >= (std::size_t(1) << 30))
+        throw InputError(mesh.source, "more than 2^30 tetrahedra: the walk packs tetrahedron indices into 30 bits");
+
     Embree& E = *embree_;
     E.device = rtcNewDevice(nullptr);
     if (!E.device) throw InputError(mesh.source, "Embree could not create a device");
@@ -145,21 +157,33 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, glm::dvec
     int zero_steps = 0;
     for (;;) {
         const Tet& T = mesh_.tets[tet];
-        // Exit: among the faces the ray leaves through (outward normal along the ray), the plane it crosses first.
+        // Outward face normals from the edge vectors of vertex 0 (the orders of tet_face): the face opposite vertex
+        // i is n[i]. Face 0 does not contain vertex 0; its normal is minus the sum of the others (the area vectors of
+        // a closed surface sum to zero).
+        const glm::dvec3 a = mesh_.points[T[0]];
+        const glm::dvec3 e1 = mesh_.points[T[1]] - a, e2 = mesh_.points[T[2]] - a, e3 = mesh_.points[T[3]] - a;
+        glm::dvec3 n[4];
+        n[1] = glm::cross(e3, e2);
+        n[2] = glm::cross(e1, e3);
+        n[3] = glm::cross(e2, e1);
+        n[0] = -(n[1] + n[2] + n[3]);
+        const glm::dvec3 w = a - ray.origin;     // faces 1, 2, 3 contain vertex 0
+        const glm::dvec3 w0 = w + e1;            // face 0 contains vertex 1
+        // Exit: among the faces the ray leaves through (outward normal along the ray), the plane it crosses first,
+        // t_i = num_i / den_i with den_i > 0, compared by cross-multiplication so that only the winner is divided.
         // Ties (the ray through an edge or a vertex) go to the lowest local face index; a pass through the edge's
         // other tetrahedra then has zero length and moves on round the edge.
         int exit_local = -1;
-        double t_exit = std::numeric_limits<double>::infinity();
+        double best_num = 0.0, best_den = 1.0;
         for (int i = 0; i < 4; ++i) {
             if (i == entry_local) continue;
-            const auto f = tet_face(T, i);
-            const glm::dvec3 n = face_normal(mesh_, f);
-            const double dn = glm::dot(n, ray.dir);
-            if (!(dn > 0.0)) continue;
-            const double t = glm::dot(n, mesh_.points[f[0]] - ray.origin) / dn;
-            if (t < t_exit) {
-                t_exit = t;
+            const double den = glm::dot(n[i], ray.dir);
+            if (!(den > 0.0)) continue;
+            const double num = glm::dot(n[i], i == 0 ? w0 : w);
+            if (exit_local < 0 || num * best_den < best_num * den) {
                 exit_local = i;
+                best_num = num;
+                best_den = den;
             }
         }
         ++stats.segments;
@@ -169,8 +193,8 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, glm::dvec
             t_out = t_in;
             return -1;
         }
-        const double t1 = std::max(t_in, t_exit);
-        const double s_out = scalar_at(tet, ray.origin + t1 * ray.dir);
+        const double t1 = std::max(t_in, best_num / best_den);
+        const double s_out = field_.values[T[0]] + glm::dot(gradient_[tet], (t1 * ray.dir) - w);
         if (t1 > t_in) {
             acc = composite_over(acc, segment_.integrate(s_in, s_out, t1 - t_in));
             zero_steps = 0;
@@ -179,16 +203,14 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, glm::dvec
             t_out = t1;
             return -1;
         }
-        const int32_t exit_face = topo_.tet_faces[tet][exit_local];
-        const int32_t next = topo_.neighbor[tet][exit_local];
+        const uint32_t next = next_[tet][exit_local];
         t_in = t1;
-        if (next < 0 || acc.a >= kReferenceOpaque) {
+        if (next == kNoNeighbor || acc.a >= kReferenceOpaque) {
             t_out = t1;
-            return exit_face;
+            return topo_.tet_faces[tet][exit_local];
         }
-        tet = uint32_t(next);
-        entry_local = 0;
-        while (topo_.tet_faces[tet][entry_local] != exit_face) ++entry_local;
+        tet = next >> 2;
+        entry_local = int(next & 3u);
         // The field is continuous across the face, so the exit value is the next tetrahedron's entry value.
         s_in = s_out;
     }

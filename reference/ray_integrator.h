@@ -52,6 +52,10 @@ private:
     const ScalarField& field_;
     SegmentIntegrator segment_;
     std::vector<glm::dvec3> gradient_;  // per tetrahedron, of the field
+    // Per tetrahedron and local face: the neighbour across it and the shared face's local index in the neighbour,
+    // packed as (tet << 2) | local, or kNoNeighbor on the boundary. Saves the walk a search per step.
+    std::vector<std::array<uint32_t, 4>> next_;
+    static constexpr uint32_t kNoNeighbor = 0xFFFFFFFFu;
     std::unique_ptr<Embree> embree_;
 };
 

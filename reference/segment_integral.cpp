@@ -26,24 +26,24 @@ double small_quadratic(double A, double B)
 {
     double sum = 0.0, coef = 1.0;
     if (A <= 4.0) {
-        double pw[80];
-        int terms = 0;
-        for (double p = 1.0; terms < 80; ++terms) {
-            pw[terms] = p;
-            if (std::fabs(p) < kNegligible) break;
-            p *= -A / (terms + 1);
-        }
-        // 1 / (k + 1) for k < 96: the divisions of the series, done once.
+        // 1 / (k + 1) for k < 96: the divisions of both series, done once.
         static const auto inv = [] {
             std::array<double, 96> t{};
             for (std::size_t k = 0; k < t.size(); ++k) t[k] = 1.0 / double(k + 1);
             return t;
         }();
+        double pw[80];
+        int terms = 0;
+        for (double p = 1.0; terms < 80; ++terms) {
+            pw[terms] = p;
+            if (std::fabs(p) < kNegligible) break;
+            p *= -A * inv[std::size_t(terms)];
+        }
         for (int n = 0; n < 8 && std::fabs(coef) >= kNegligible; ++n) {
             double m = 0.0;
             for (int j = 0; j < terms; ++j) m += pw[j] * inv[std::size_t(2 * n + j)];
             sum += coef * m;
-            coef *= -B / (n + 1);
+            coef *= -B * inv[std::size_t(n)];
         }
         return sum;
     }

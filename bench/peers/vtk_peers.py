@@ -1,0 +1,144 @@
+#!/usr/bin/python3
+"""Render a scene exported by `uvr export` with VTK 9's unstructured-grid volume mappers, time them, and measure their
+error against uvr's reference image with SPEC section 4's measures.
+
+    uvr export MESH [scene options] --out DIR
+    uvr render MESH [same scene options] --algo reference --out DIR/reference.npy
+    xvfb-run -a /usr/bin/python3 bench/peers/vtk_peers.py DIR --reference DIR/reference.npy [--mappers raycast,pt,zsweep]
+
+Prints one JSON object. Debian's python3-vtk9 renders through X, hence xvfb-run (Mesa's llvmpipe under Xvfb).
+
+Transfer function: uvr's extinction tau (per world unit) becomes VTK's scalar opacity a = 1 - exp(-tau u) at each node
+with ScalarOpacityUnitDistance u, which VTK turns back into tau for each sample. VTK interpolates a, not tau, linearly
+between nodes; with u small (1/1000 of the bounds' diagonal, so that a is within 0.1 % of tau u) the two agree closely.
+"""
+import argparse
+import json
+import math
+import statistics
+import sys
+import time
+
+import numpy as np
+import vtk
+from vtk.util import numpy_support
+
+MAPPERS = {
+    "raycast": vtk.vtkUnstructuredGridVolumeRayCastMapper,
+    "pt": vtk.vtkProjectedTetrahedraMapper,
+    "zsweep": vtk.vtkUnstructuredGridVolumeZSweepMapper,
+}
+
+
+def load(scene_dir):
+    reader = vtk.vtkUnstructuredGridReader()
+    reader.SetFileName(f"{scene_dir}/mesh.vtk")
+    reader.Update()
+    grid = reader.GetOutput()
+    with open(f"{scene_dir}/tf.json") as f:
+        tf = json.load(f)
+    with open(f"{scene_dir}/camera.json") as f:
+        cam = json.load(f)
+    with open(f"{scene_dir}/scene.json") as f:
+        scene = json.load(f)
+    return grid, tf, cam, scene
+
+
+def volume_property(tf, unit):
+    color = vtk.vtkColorTransferFunction()
+    for s, r, g, b in tf["color"]:
+        color.AddRGBPoint(s, r, g, b)
+    opacity = vtk.vtkPiecewiseFunction()
+    for s, tau in tf["extinction"]:
+        opacity.AddPoint(s, 1.0 - math.exp(-tau * unit))
+    prop = vtk.vtkVolumeProperty()
+    prop.SetColor(color)
+    prop.SetScalarOpacity(opacity)
+    prop.SetScalarOpacityUnitDistance(unit)
+    prop.SetInterpolationTypeToLinear()
+    prop.ShadeOff()
+    return prop
+
+
+def render(name, grid, prop, cam, width, height, repeat):
+    mapper = MAPPERS[name]()
+    mapper.SetInputData(grid)
+    volume = vtk.vtkVolume()
+    volume.SetMapper(mapper)
+    volume.SetProperty(prop)
+    ren = vtk.vtkRenderer()
+    ren.SetBackground(0, 0, 0)
+    ren.AddVolume(volume)
+    win = vtk.vtkRenderWindow()
+    win.SetOffScreenRendering(1)
+    win.SetSize(width, height)
+    win.AddRenderer(ren)
+    c = ren.GetActiveCamera()
+    c.SetPosition(*cam["eye"])
+    c.SetFocalPoint(*cam["target"])
+    c.SetViewUp(*cam["up"])
+    c.SetViewAngle(cam["fovy_deg"])
+    if cam.get("projection") == "orthographic":
+        c.ParallelProjectionOn()
+        c.SetParallelScale(cam["ortho_height"] / 2.0)
+    ren.ResetCameraClippingRange()
+    win.Render()  # warm-up: builds the mapper's data structures
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        win.Render()
+        times.append((time.perf_counter() - t0) * 1000.0)
+    grab = vtk.vtkWindowToImageFilter()
+    grab.SetInput(win)
+    grab.SetInputBufferTypeToRGB()
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    img = grab.GetOutput()
+    rgb = numpy_support.vtk_to_numpy(img.GetPointData().GetScalars()).reshape(height, width, 3)
+    return statistics.median(times), times, np.flipud(rgb).astype(np.float32) / 255.0
+
+
+def errors(rgb, reference):
+    ref = reference[:, :, :3]  # premultiplied colour over black is the colour itself
+    diff = np.abs(rgb - ref)
+    rmse = float(np.sqrt(np.mean(diff**2)))
+    covered = reference[:, :, 3] > 1.0 / 255.0
+    empty = covered & (rgb.max(axis=2) == 0.0)
+    return {
+        "rmse_rgb": rmse,
+        "max_abs_rgb": float(diff.max()),
+        "psnr_rgb": float(20.0 * math.log10(1.0 / rmse)) if rmse > 0 else float("inf"),
+        "visible_fraction": float(np.mean(diff.max(axis=2) > 1.0 / 255.0)),
+        "missing_fraction_of_covered": float(empty.sum() / max(1, covered.sum())),
+    }
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("scene", help="directory written by `uvr export`")
+    ap.add_argument("--reference", help="uvr's reference .npy of the same scene")
+    ap.add_argument("--mappers", default="raycast,pt,zsweep")
+    ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--save", help="directory for the peers' images (.npy)")
+    a = ap.parse_args()
+    grid, tf, cam, scene = load(a.scene)
+    b = grid.GetBounds()
+    diagonal = math.sqrt((b[1] - b[0]) ** 2 + (b[3] - b[2]) ** 2 + (b[5] - b[4]) ** 2)
+    prop = volume_property(tf, diagonal / 1000.0)
+    reference = np.load(a.reference) if a.reference else None
+    out = {"vtk": vtk.vtkVersion.GetVTKVersion(), "cells": grid.GetNumberOfCells(), "width": scene["width"],
+           "height": scene["height"], "results": []}
+    for name in a.mappers.split(","):
+        median_ms, times, rgb = render(name, grid, prop, cam, scene["width"], scene["height"], a.repeat)
+        r = {"algo": f"vtk-{name}", "backend": "vtk", "frame_ms": median_ms, "frame_ms_all": times}
+        if reference is not None:
+            r.update(errors(rgb, reference))
+        if a.save:
+            np.save(f"{a.save}/vtk-{name}.npy", rgb)
+        out["results"].append(r)
+    json.dump(out, sys.stdout, indent=1)
+    print()
+
+
+if __name__ == "__main__":
+    main()
