@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <type_traits>
 
 #include "reference/special_functions.h"
 
@@ -96,62 +97,78 @@ glm::dvec4 integrate_linear_piece(const glm::dvec3& c0, const glm::dvec3& c1, do
     return {c.x, c.y, c.z, alpha};
 }
 
-SegmentIntegrator::SegmentIntegrator(const TransferFunction& tf) : tf_(tf), breaks_(tf.breakpoints()) {}
-
-void SegmentIntegrator::piece_ends(double sa, double sb, glm::dvec3& ca, glm::dvec3& cb, double& ta, double& tb) const
+SegmentIntegrator::SegmentIntegrator(const TransferFunction& tf) : tf_(tf), breaks_(tf.breakpoints())
 {
-    const double mid = 0.5 * (sa + sb);
-    // The node interval [a, b] containing the piece (found once from its midpoint), evaluated at both ends.
-    auto ends = [mid, sa, sb](const auto& nodes, auto get, auto& va, auto& vb) {
-        if (mid < nodes.front().s) {
-            va = vb = get(nodes.front());
+    // The linear formula of a node list on [lo, hi], from the node interval containing the midpoint.
+    auto formula = [](const auto& nodes, auto get, double lo, double hi, auto& v, auto& dv) {
+        const double mid = 0.5 * (lo + hi);
+        using V = std::decay_t<decltype(get(nodes.front()))>;
+        if (!(mid >= nodes.front().s)) {
+            v = get(nodes.front());
+            dv = V(0.0);
             return;
         }
         if (mid >= nodes.back().s) {
-            va = vb = get(nodes.back());
+            v = get(nodes.back());
+            dv = V(0.0);
             return;
         }
-        auto it = std::upper_bound(nodes.begin(), nodes.end(), mid, [](double v, const auto& n) { return v < n.s; });
+        auto it = std::upper_bound(nodes.begin(), nodes.end(), mid, [](double x, const auto& n) { return x < n.s; });
         const auto& b = *it;
         const auto& a = *(it - 1);
-        const auto ga = get(a), gb = get(b);
-        const double inv = 1.0 / (b.s - a.s);
-        va = ga + (gb - ga) * ((sa - a.s) * inv);
-        vb = ga + (gb - ga) * ((sb - a.s) * inv);
+        dv = (get(b) - get(a)) / (b.s - a.s);
+        v = get(a) + dv * (lo - a.s);
     };
-    ends(tf_.color, [](const ColorNode& n) { return n.rgb; }, ca, cb);
-    ends(tf_.extinction, [](const ExtinctionNode& n) { return n.tau; }, ta, tb);
+    const std::size_t n = breaks_.size();
+    pieces_.resize(n + 1);
+    for (std::size_t k = 0; k <= n; ++k) {
+        // The ends are constant: evaluate them just outside the first and last breakpoint.
+        const double lo = k == 0 ? breaks_.front() - 1.0 : breaks_[k - 1];
+        const double hi = k == n ? breaks_.back() + 1.0 : breaks_[k];
+        Piece& p = pieces_[k];
+        p.lo = lo;
+        formula(tf_.color, [](const ColorNode& c) { return c.rgb; }, lo, hi, p.c, p.dc);
+        formula(tf_.extinction, [](const ExtinctionNode& e) { return e.tau; }, lo, hi, p.tau, p.dtau);
+    }
+}
+
+glm::dvec4 SegmentIntegrator::integrate_piece(const Piece& p, double sa, double sb, double length) const
+{
+    const glm::dvec3 ca = p.c + p.dc * (sa - p.lo), cb = p.c + p.dc * (sb - p.lo);
+    return integrate_linear_piece(ca, cb, p.tau + p.dtau * (sa - p.lo), p.tau + p.dtau * (sb - p.lo), length);
 }
 
 glm::dvec4 SegmentIntegrator::integrate(double s_front, double s_back, double length) const
 {
     if (!(length > 0.0)) return glm::dvec4(0.0);
-    glm::dvec3 ca, cb;
-    double ta, tb;
-    if (s_front == s_back) {
-        piece_ends(s_front, s_back, ca, cb, ta, tb);
-        return integrate_linear_piece(ca, cb, ta, tb, length);
-    }
-    // Breakpoints strictly inside (s_front, s_back), visited in the ray's order.
-    const double lo = std::min(s_front, s_back), hi = std::max(s_front, s_back);
-    auto first = std::upper_bound(breaks_.begin(), breaks_.end(), lo);
-    auto last = std::lower_bound(breaks_.begin(), breaks_.end(), hi);
     const double ds = s_back - s_front;
+    if (s_back >= s_front) {
+        // Interval of s_front seen from above (a breakpoint exactly at s_front belongs to the piece after it).
+        std::size_t k = std::size_t(std::upper_bound(breaks_.begin(), breaks_.end(), s_front) - breaks_.begin());
+        if (k == breaks_.size() || !(breaks_[k] < s_back)) return integrate_piece(pieces_[k], s_front, s_back, length);
+        glm::dvec4 acc(0.0);
+        double s_prev = s_front, t_prev = 0.0;
+        for (; k < breaks_.size() && breaks_[k] < s_back; ++k) {
+            const double t = length * ((breaks_[k] - s_front) / ds);
+            acc = composite_over(acc, integrate_piece(pieces_[k], s_prev, breaks_[k], t - t_prev));
+            s_prev = breaks_[k];
+            t_prev = t;
+        }
+        return composite_over(acc, integrate_piece(pieces_[k], s_prev, s_back, length - t_prev));
+    }
+    // Descending: the interval of s_front seen from below (a breakpoint exactly at s_front belongs to the piece
+    // before it).
+    std::size_t k = std::size_t(std::lower_bound(breaks_.begin(), breaks_.end(), s_front) - breaks_.begin());
+    if (k == 0 || !(breaks_[k - 1] > s_back)) return integrate_piece(pieces_[k], s_front, s_back, length);
     glm::dvec4 acc(0.0);
     double s_prev = s_front, t_prev = 0.0;
-    auto add_piece = [&](double s_next, double t_next) {
-        piece_ends(s_prev, s_next, ca, cb, ta, tb);
-        acc = composite_over(acc, integrate_linear_piece(ca, cb, ta, tb, t_next - t_prev));
-        s_prev = s_next;
-        t_prev = t_next;
-    };
-    const std::ptrdiff_t n = last - first;
-    for (std::ptrdiff_t k = 0; k < n; ++k) {
-        const double b = s_front < s_back ? first[k] : first[n - 1 - k];
-        add_piece(b, length * ((b - s_front) / ds));
+    for (; k > 0 && breaks_[k - 1] > s_back; --k) {
+        const double t = length * ((breaks_[k - 1] - s_front) / ds);
+        acc = composite_over(acc, integrate_piece(pieces_[k], s_prev, breaks_[k - 1], t - t_prev));
+        s_prev = breaks_[k - 1];
+        t_prev = t;
     }
-    add_piece(s_back, length);
-    return acc;
+    return composite_over(acc, integrate_piece(pieces_[k], s_prev, s_back, length - t_prev));
 }
 
 }  // namespace uvr

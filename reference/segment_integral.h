@@ -49,13 +49,20 @@ public:
     const TransferFunction& transfer_function() const { return tf_; }
 
 private:
-    // Colour and extinction at both ends of a piece [sa, sb] lying between two consecutive breakpoints, evaluated
-    // with the formula of the node interval that contains the piece, so a jump (two nodes at one s) is taken from the
-    // correct side at each end.
-    void piece_ends(double sa, double sb, glm::dvec3& ca, glm::dvec3& cb, double& ta, double& tb) const;
+    // Between consecutive breakpoints both colour and extinction are linear in s. Interval k spans
+    // [breaks_[k-1], breaks_[k]] (k = 0 and k = breaks_.size() are the constant ends); its values are
+    // c(s) = c + dc * (s - lo), tau(s) = tau + dtau * (s - lo), taken from the node interval of the transfer function
+    // that contains the interval, so a jump (two nodes at one s) is seen from the correct side at each end.
+    struct Piece {
+        double lo;
+        glm::dvec3 c, dc;
+        double tau, dtau;
+    };
+    glm::dvec4 integrate_piece(const Piece& p, double sa, double sb, double length) const;
 
     TransferFunction tf_;
     std::vector<double> breaks_;
+    std::vector<Piece> pieces_;  // breaks_.size() + 1
 };
 
 // Below this |B| the series in B replaces the erfcx/Dawson forms. The closed forms lose about 1e-16 / sqrt(|B|) to
