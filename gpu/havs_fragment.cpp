@@ -1,0 +1,104 @@
+#include "gpu/havs_fragment.h"
+
+#include <cmath>
+
+namespace uvr::gpu {
+
+KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& f, int pix_x, int pix_y)
+{
+    // Edge functions of the float triangle at the pixel centre (sum: the doubled signed area).
+    const float fx = float(pix_x) + 0.5f, fy = float(pix_y) + 0.5f;
+    const glm::vec2* v = f.v;
+    float e0 = (v[2].x - v[1].x) * (fy - v[1].y) - (v[2].y - v[1].y) * (fx - v[1].x);
+    float e1 = (v[0].x - v[2].x) * (fy - v[2].y) - (v[0].y - v[2].y) * (fx - v[2].x);
+    float e2 = (v[1].x - v[0].x) * (fy - v[0].y) - (v[1].y - v[0].y) * (fx - v[0].x);
+    const float sum = (e0 + e1) + e2;
+    const float lim = -kOutsideTolerance * sum;
+    const bool inside = sum > 0.0f ? (e0 >= lim && e1 >= lim && e2 >= lim) : (e0 <= lim && e1 <= lim && e2 <= lim);
+    if (!inside) {
+        // Covered only because of snapping: the snapped triangle's exact edge functions (fixed value 256 * p is
+        // pixel p's centre), converted to float once.
+        const int64_t cx = int64_t(pix_x) * 256, cy = int64_t(pix_y) * 256;
+        auto edge = [&](int a, int b) {
+            return (int64_t(f.fx[b]) - f.fx[a]) * (cy - f.fy[a]) - (int64_t(f.fy[b]) - f.fy[a]) * (cx - f.fx[a]);
+        };
+        e0 = float(edge(1, 2));
+        e1 = float(edge(2, 0));
+        e2 = float(edge(0, 1));
+    }
+    const float w0 = e0 * f.inv_w[0], w1 = e1 * f.inv_w[1], w2 = e2 * f.inv_w[2];
+    const float inv_sum = 1.0f / ((w0 + w1) + w2);
+    const float l0 = w0 * inv_sum, l1 = w1 * inv_sum, l2 = w2 * inv_sum;
+    // The eye-space point, and its distance from the pixel's ray origin o = (ndc_x * ox, ndc_y * oy, 0).
+    const float px = (l0 * f.q[0].x + l1 * f.q[1].x) + l2 * f.q[2].x;
+    const float py = (l0 * f.q[0].y + l1 * f.q[1].y) + l2 * f.q[2].y;
+    const float pz = (l0 * f.q[0].z + l1 * f.q[1].z) + l2 * f.q[2].z;
+    const float ndc_x = (float(pix_x) + 0.5f) * fc.two_over_width - 1.0f;
+    const float ndc_y = (float(pix_y) + 0.5f) * fc.two_over_height - 1.0f;
+    const float dx = px - ndc_x * fc.origin_x, dy = py - ndc_y * fc.origin_y;
+    const float distance = std::sqrt((dx * dx + dy * dy) + pz * pz);
+    const float s = (l0 * f.s[0] + l1 * f.s[1]) + l2 * f.s[2];
+    return {f.side * (1.0f + s), distance};
+}
+
+namespace {
+bool real_entry(const KEntry& e) { return e.y > 0.0f && e.y < __builtin_inff(); }
+}  // namespace
+
+bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& fb, const SegmentShader& shade,
+                  KBufferDiagnostics* diag)
+{
+    // KIL (threshold - alpha): the seed kills the fragment once the pixel is opaque enough; nothing is written.
+    if (fc.threshold - fb.a < 0.0f) return false;
+    if (diag && real_entry(a0)) ++diag->fragments;
+    // Find the entry with the smallest distance (r0); the others go to r1..rk. The seed's CMP: on t < 0 the running
+    // minimum stays; otherwise (ties included) the stored entry becomes the minimum and the running one moves on, so
+    // on a tie the entry already in the buffer is composited first.
+    KEntry r[kMaxK + 1];
+    r[0] = a0;
+    for (int i = 1; i <= k; ++i) {
+        const float t = r[0].y - a[i - 1].y;
+        if (t < 0.0f) {
+            r[i] = a[i - 1];
+        } else {
+            r[i] = r[0];
+            r[0] = a[i - 1];
+        }
+    }
+    // The second smallest (r7 of the seed) among r1..rk, by the same chain; it stays in the buffer.
+    KEntry second = r[1];
+    for (int i = 2; i <= k; ++i) {
+        const float t = second.y - r[i].y;
+        if (!(t < 0.0f)) second = r[i];
+    }
+    // The segment from r0 to r7: table coordinates (MAD for t_z, unfused), then the lookup; nullified when r0's
+    // scalar is negative (a gap, an empty or a flush entry) and, with --gaps maxgap, when it is longer than the gap.
+    const float length = second.y - r[0].y;
+    glm::vec4 c(0.0f);
+    // A segment that ends on a flush fragment (distance +inf) never lies inside the mesh: it starts on the last
+    // fragment of the pixel, which is an exit face unless fragments at one distance (a ray exactly through a surface
+    // vertex) were ordered exit-first by rounding.
+    const bool nullified = r[0].x < 0.0f || std::isinf(second.y) || (fc.max_gap > 0.0f && length > fc.max_gap);
+    if (!nullified) {
+        const float t_z = length * fc.length_scale + fc.length_bias;
+        c = shade(std::fabs(r[0].x) - 1.0f, std::fabs(second.x) - 1.0f, t_z, length);
+    }
+    if (diag && real_entry(r[0])) {
+        if (r[0].y < diag->last_front) ++diag->ordering_errors;
+        diag->last_front = std::fmax(diag->last_front, r[0].y);
+    }
+    // Front to back: fb = c * (1 - fb.a) + fb, per channel (MAD, unfused).
+    const float one_minus_a = 1.0f - fb.a;
+    fb = glm::vec4(c.r * one_minus_a + fb.r, c.g * one_minus_a + fb.g, c.b * one_minus_a + fb.b,
+                   c.a * one_minus_a + fb.a);
+    // Write back r1..rk.
+    uint32_t held = 0;
+    for (int i = 1; i <= k; ++i) {
+        a[i - 1] = r[i];
+        held += real_entry(r[i]) ? 1u : 0u;
+    }
+    if (diag && held > diag->max_held) diag->max_held = held;
+    return true;
+}
+
+}  // namespace uvr::gpu

@@ -1,0 +1,105 @@
+#include "gpu/havs_vertex.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "reference/error.h"
+
+namespace uvr::gpu {
+
+namespace {
+
+using Mat4d = std::array<std::array<double, 4>, 4>;
+
+Mat4d multiply(const Mat4d& a, const Mat4d& b)
+{
+    Mat4d m{};
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            for (int k = 0; k < 4; ++k) m[c][r] += a[k][r] * b[c][k];
+    return m;
+}
+
+Mat4f to_float(const Mat4d& m)
+{
+    Mat4f f{};
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) f[c][r] = float(m[c][r]);
+    return f;
+}
+
+Mat4d view_matrix(const Camera& cam)
+{
+    const CameraFrame fr = camera_frame(cam);
+    Mat4d v{};
+    const glm::dvec3 rows[3] = {fr.r, fr.u, -fr.f};
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) v[c][r] = rows[r][c];
+        v[3][r] = -glm::dot(rows[r], cam.eye);
+    }
+    v[3][3] = 1.0;
+    return v;
+}
+
+}  // namespace
+
+glm::dvec3 eye_position(const Camera& cam, const glm::dvec3& p)
+{
+    const CameraFrame fr = camera_frame(cam);
+    const glm::dvec3 d = p - cam.eye;
+    return {glm::dot(fr.r, d), glm::dot(fr.u, d), -glm::dot(fr.f, d)};
+}
+
+ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b)
+{
+    // Depth range: the bounds' corners along the view direction, widened by 1 % of the bounds' size.
+    const CameraFrame fr = camera_frame(cam);
+    double zmin = INFINITY, zmax = -INFINITY;
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 p((c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y, (c & 4) ? b.hi.z : b.lo.z);
+        const double z = glm::dot(fr.f, p - cam.eye);
+        zmin = std::min(zmin, z);
+        zmax = std::max(zmax, z);
+    }
+    const double margin = 0.01 * glm::length(b.extent()) + 1e-9;
+    double n = zmin - margin, f = zmax + margin;
+    Mat4d p{};
+    const double aspect = double(width) / double(height);
+    if (cam.orthographic) {
+        const double h = 0.5 * cam.ortho_height, w = h * aspect;
+        p[0][0] = 1.0 / w;
+        p[1][1] = 1.0 / h;
+        p[2][2] = -2.0 / (f - n);
+        p[3][2] = -(f + n) / (f - n);
+        p[3][3] = 1.0;
+    } else {
+        if (!(n > 1e-6 * (f > 0 ? f : 1.0)))
+            throw InputError("", "the camera is inside or too close to the mesh's bounds: HAVS needs the mesh in front "
+                                 "of the eye (the draw module's near-plane clipping is not emulated)");
+        const double t = 1.0 / std::tan(0.5 * cam.fovy_deg * 3.14159265358979323846 / 180.0);
+        p[0][0] = t / aspect;
+        p[1][1] = t;
+        p[2][2] = -(f + n) / (f - n);
+        p[2][3] = -1.0;
+        p[3][2] = -2.0 * f * n / (f - n);
+    }
+    const Mat4d v = view_matrix(cam);
+    return {to_float(v), to_float(p), to_float(multiply(p, v))};
+}
+
+std::array<float, 4> clip_position(const Mat4f& m, const glm::vec3& p)
+{
+    std::array<float, 4> out{};
+    for (int r = 0; r < 4; ++r) {
+        float acc = m[0][r] * p.x;
+        acc = acc + m[1][r] * p.y;
+        acc = acc + m[2][r] * p.z;
+        acc = acc + m[3][r];
+        out[std::size_t(r)] = acc;
+    }
+    return out;
+}
+
+}  // namespace uvr::gpu

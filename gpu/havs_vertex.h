@@ -1,0 +1,37 @@
+// HAVS's vertex stage (seed 000, Appendix I): world positions to clip coordinates with the model-view-projection
+// matrix, in float32, as the GLSL vertex shader shaders/havs_vertex.vert computes them.
+//
+// The matrices are built in double from the camera (SPEC §2) and rounded to float once; the product is written out
+// as explicit multiplies and adds in a fixed order (the shader marks them `precise`, so no stage may fuse them), so
+// the emulation and the shader compute the same bits.
+#pragma once
+
+#include <array>
+
+#include <glm/vec3.hpp>
+
+#include "reference/camera.h"
+#include "reference/mesh.h"
+
+namespace uvr::gpu {
+
+// Column-major 4x4, as GLSL's mat4: m[c][r] is column c, row r.
+using Mat4f = std::array<std::array<float, 4>, 4>;
+
+struct ViewSetup {
+    Mat4f view;        // world -> eye (rigid: distances are world units); the eye looks down -z
+    Mat4f projection;  // eye -> clip (OpenGL conventions, depth in [-1, 1])
+    Mat4f mvp;         // projection * view, multiplied in double before rounding
+};
+
+// Near and far planes enclose `bounds` seen from the camera (with a margin), so the draw module never clips a face
+// of the mesh in depth. Throws InputError when the eye is inside or too close to the bounds for a near plane.
+ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& bounds);
+
+// clip = mvp * vec4(p, 1): each row as ((m0 * x + m1 * y) + m2 * z) + m3, float32, unfused.
+std::array<float, 4> clip_position(const Mat4f& mvp, const glm::vec3& p);
+
+// Eye-space position (view * vec4(p, 1)).xyz in double, for the CPU stage's per-face constants.
+glm::dvec3 eye_position(const Camera& cam, const glm::dvec3& p);
+
+}  // namespace uvr::gpu

@@ -1,0 +1,103 @@
+// How llvmpipe (Mesa 22.3, gallivm) samples 2D and 3D textures, emulated bit for bit on the CPU.
+//
+// Scope: what the uvr shaders use. Normalized float coordinates, wrap CLAMP_TO_EDGE on every axis, no mipmaps (the
+// minification and magnification filters equal, both GL_NEAREST or both GL_LINEAR), formats RGBA32F / R32F (f32),
+// RGBA16 / R16 unorm (u16) and RGBA8 / R8 unorm (u8). Sources and the reasoning behind each step: docs/tables.md.
+//
+// Two code paths exist in llvmpipe and both are emulated (lp_bld_sample_soa.c, lp_build_sample_soa_code):
+//   - u8 formats "fit 8unorm", and with CLAMP_TO_EDGE (a "simple wrap mode") llvmpipe samples them in the AoS path
+//     (lp_bld_sample_aos.c): texel coordinates in 24.8 fixed point, 8-bit weights, 8-bit lerps, and one conversion
+//     of the filtered bytes to float at the end.
+//   - f32 and u16 formats go through the SoA float path (lp_build_sample_image_nearest / _linear): each texel is
+//     converted to float first, then filtered with float lerps v0 + w * (v1 - v0), which LLVM fuses into one FMA
+//     when the JIT target has FMA3 (llvm.fmuladd), so the result depends on the CPU (LlvmpipeCpu below).
+// Every function keeps float32 arithmetic in float32; the project compiles with -ffp-contract=off, so only the
+// explicit std::fma below fuses.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec4.hpp>
+
+namespace uvr::gpu {
+
+// Storage formats of a texture: RGBA32F (or R32F), RGBA16 unorm (R16), RGBA8 unorm (R8).
+enum class TexelFormat { f32, u16, u8 };
+const char* texel_format_name(TexelFormat f);  // "f32", "u16", "u8"
+int texel_channel_bytes(TexelFormat f);         // 4, 2, 1
+
+enum class TextureFilter { nearest, linear };
+
+// A texture as llvmpipe holds it: `channels` (1 or 4) interleaved values per texel, x fastest, then y, then z, the
+// layout glTexImage3D takes from memory (unpack alignment 1). A 2D texture has depth 1. Does not own the data.
+struct TextureView {
+    TexelFormat format = TexelFormat::f32;
+    int channels = 4;
+    int width = 1, height = 1, depth = 1;
+    const void* texels = nullptr;
+};
+
+// The CPU features llvmpipe's generated sampling code depends on.
+struct LlvmpipeCpu {
+    // llvm.fmuladd is fused into a single-rounding FMA on x86 CPUs with FMA3 (llvmpipe passes the host's features
+    // to the JIT, +fma included). Without it the float lerp rounds twice (multiply, then add).
+    bool fma = true;
+    // The 8-bit lerp of the AoS path. Mesa 22.3 uses pmulhrsw on SSSE3 / AVX2 lanes, which rounds w * delta / 256
+    // to nearest (checked bit for bit against OSMesa 22.3.6, docs/tables.md); older Mesa truncated (floored).
+    bool lerp8_rounds = true;
+};
+// The features of the machine this runs on: FMA3 as the CPU reports it; lerp8_rounds as Mesa 22.3 does it.
+LlvmpipeCpu host_llvmpipe_cpu();
+
+// ---- Building blocks (exposed for the tests and for the other emulated stages) ----
+
+// x86 cvttps2dq: truncation toward zero; NaN and values outside [-2^31, 2^31) give the "integer indefinite"
+// 0x80000000. LLVM's fptosi on a <N x float> vector compiles to this instruction on x86.
+int32_t x86_cvtt(float x);
+// x86 cvtps2dq in the default MXCSR mode: round to nearest, ties to even; NaN and out of range give 0x80000000.
+int32_t x86_cvt_rne(float x);
+
+// The unorm -> float conversion llvmpipe generates (lp_build_unsigned_norm_to_float for widths <= 24 bits):
+// sitofp, then one float multiply by the float nearest 1/(2^n - 1). Not always the float nearest i / (2^n - 1).
+float unorm8_to_float(uint8_t v);
+float unorm16_to_float(uint16_t v);
+// Mesa 22.3's float -> unorm conversion when glTexImage uploads GL_FLOAT data into RGBA8 / RGBA16 (checked against
+// OSMesa 22.3.6 on every float in [0, 1] where the candidate formulas differ): 0 below 0 (and NaN), the maximum
+// above 1, otherwise the float product x * (2^n - 1) rounded to an integer, ties to even for 8 bits
+// (float_to_ubyte, which equals _mesa_float_to_unorm there) and ties away from zero for RGBA16 (util_iround in the
+// generated util_format pack function). One-channel R16 rounds ties to even instead; see docs/tables.md.
+uint8_t float_to_unorm8(float x);
+uint16_t float_to_unorm16(float x);
+
+// The float lerp of lp_build_lerp_simple: v0 + w * (v1 - v0), fused (one rounding) when `fma`.
+float lerp_f32(float w, float v0, float v1, bool fma);
+// The 8-bit lerp of the AoS path with a prescaled weight w8 in [0, 255] (meaning w8 / 256): v0 plus w8 * (v1 - v0)
+// / 256, rounded to nearest (halves up) when `rounds`, floored otherwise; exact integer arithmetic.
+uint8_t lerp_unorm8(uint32_t w8, uint8_t v0, uint8_t v1, bool rounds);
+
+// Wrap CLAMP_TO_EDGE of one coordinate, in both paths.
+struct LinearTaps {   // SoA float path
+    int32_t i0, i1;   // the two texels
+    float weight;     // of i1, in [0, 1)
+};
+struct LinearTaps8 {  // AoS 8-bit path
+    int32_t i0, i1;
+    uint32_t weight;  // of i1, in 1/256 steps, [0, 255]
+};
+int32_t wrap_nearest_soa(float coord, int size);
+int32_t wrap_nearest_aos(float coord, int size);
+LinearTaps wrap_linear_soa(float coord, int size);
+LinearTaps8 wrap_linear_aos(float coord, int size);
+
+// Which path llvmpipe takes for a format (CLAMP_TO_EDGE, no mipmaps, equal filters): AoS for u8, SoA otherwise.
+enum class SamplePath { soa_float, aos_unorm8 };
+SamplePath sample_path(TexelFormat f);
+
+// One texel converted to float as llvmpipe's fetch does (1-channel textures read as (r, 0, 0, 1)).
+glm::vec4 texel_fetch(const TextureView& tex, int x, int y, int z = 0);
+
+// texture(sampler2D, vec2(s, t)) and texture(sampler3D, vec3(s, t, r)) with the given filter on both min and mag.
+glm::vec4 sample_2d(const TextureView& tex, float s, float t, TextureFilter filter, const LlvmpipeCpu& cpu);
+glm::vec4 sample_3d(const TextureView& tex, float s, float t, float r, TextureFilter filter, const LlvmpipeCpu& cpu);
+
+}  // namespace uvr::gpu
