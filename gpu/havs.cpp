@@ -35,7 +35,7 @@ HavsRenderer::HavsRenderer(const TetMesh& mesh, const MeshTopology& topo, std::s
     points_f_.reserve(mesh.points.size());
     for (const auto& p : mesh.points) points_f_.push_back(glm::vec3(p));
     const double span = range_.hi > range_.lo ? range_.hi - range_.lo : 1.0;
-    for (double s : mesh.fields[field].values) scalar_n_.push_back(float((s - range_.lo) / span));
+    for (double s : mesh.fields[field].values) scalar_n_.push_back((s - range_.lo) / span);
     // Welded points (a coincident twin exists): a boundary face made only of them lies on a seam inside the mesh (the
     // O-grid seam of docs/data-model.md), not on the mesh's surface, so it is never a gap's start.
     std::vector<uint8_t> welded(mesh.points.size(), 0);
@@ -88,27 +88,31 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     t0 = Clock::now();
     const ViewSetup vs = view_setup(cam, width, height, mesh_bounds(mesh_));
     const Framebuffer fbuf{width, height, RenderTarget::fbo};
-    std::vector<WindowCoord> win(points_f_.size());
-    std::vector<float> inv_w(points_f_.size());
+    std::vector<WindowCoord> win(points_f_.size());   // what the rasterizer receives (float pipeline)
+    std::vector<glm::dvec3> win_d(points_f_.size());  // x, y, 1 / w in double (the fragment stage's geometry)
     tbb::parallel_for(std::size_t(0), points_f_.size(), [&](std::size_t i) {
         const auto clip = clip_position(vs.mvp, points_f_[i]);
         win[i] = viewport_transform(clip.data(), fbuf);
-        inv_w[i] = 1.0f / clip[3];
+        window_position_d(vs, mesh_.points[i], width, height, win_d[i].x, win_d[i].y, win_d[i].z);
     });
     HavsFrameConstants fc;
-    fc.two_over_width = 2.0f / float(width);
-    fc.two_over_height = 2.0f / float(height);
+    fc.two_over_width = 2.0 / double(width);
+    fc.two_over_height = 2.0 / double(height);
     const double aspect = double(width) / double(height);
     if (cam.orthographic) {
-        fc.origin_x = float(0.5 * cam.ortho_height * aspect);
-        fc.origin_y = float(0.5 * cam.ortho_height);
+        fc.origin_x = 0.5 * cam.ortho_height * aspect;
+        fc.origin_y = 0.5 * cam.ortho_height;
     }
     fc.threshold = options_.threshold;
     if (table_) {
         fc.length_scale = table_->length_scale();
         fc.length_bias = table_->length_bias();
     }
-    if (options_.gaps == GapMode::maxgap) fc.max_gap = float(longest_edge_);
+    // Both gap modes nullify a segment longer than the mesh's longest edge: consecutive fragments inside the mesh lie
+    // in one tetrahedron, so such a segment can only span a gap. With --gaps maxgap that is the whole rule (VTK's
+    // heuristic); with exact gaps it is a safety net under the exit-face marking, for a fragment that rounding placed
+    // just behind the exit face it belongs before (a ray grazing a silhouette edge).
+    fc.max_gap = float(longest_edge_);
 
     // Bin the sorted faces into screen tiles by their window-space bounding boxes.
     const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
@@ -166,14 +170,14 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
             HavsFace face;
             const glm::dvec3 q0 = eye_position(cam, mesh_.points[v[0]]), q1 = eye_position(cam, mesh_.points[v[1]]),
                              q2 = eye_position(cam, mesh_.points[v[2]]);
-            face.q[0] = glm::vec3(q0);
-            face.q[1] = glm::vec3(q1);
-            face.q[2] = glm::vec3(q2);
+            face.q[0] = q0;
+            face.q[1] = q1;
+            face.q[2] = q2;
             for (int j = 0; j < 3; ++j) {
-                face.v[j] = glm::vec2(wv[j].x, wv[j].y);
+                face.v[j] = glm::dvec2(win_d[v[j]].x, win_d[v[j]].y);
                 face.fx[j] = snap_to_fixed(wv[j].x);
                 face.fy[j] = snap_to_fixed(wv[j].y);
-                face.inv_w[j] = inv_w[v[j]];
+                face.inv_w[j] = win_d[v[j]].z;
                 face.s[j] = scalar_n_[v[j]];
             }
             // A boundary face is oriented outward, so it is an exit face when the rasterizer sees it back-facing

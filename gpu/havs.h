@@ -65,7 +65,7 @@ private:
     Range range_;
     double longest_edge_ = 0.0;
     std::vector<glm::vec3> points_f_;   // float positions (the vertex buffer)
-    std::vector<float> scalar_n_;       // normalized scalar per point (float, the vertex attribute)
+    std::vector<double> scalar_n_;      // normalized scalar per point
     std::vector<uint32_t> faces_;       // 3 indices per unique face
     std::vector<uint8_t> boundary_;     // 1 for a boundary face that can be an exit face (exact gaps)
     std::unique_ptr<PreintegrationTable> table_;

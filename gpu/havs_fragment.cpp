@@ -6,39 +6,40 @@ namespace uvr::gpu {
 
 KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& f, int pix_x, int pix_y)
 {
-    // Edge functions of the float triangle at the pixel centre (sum: the doubled signed area).
-    const float fx = float(pix_x) + 0.5f, fy = float(pix_y) + 0.5f;
-    const glm::vec2* v = f.v;
-    float e0 = (v[2].x - v[1].x) * (fy - v[1].y) - (v[2].y - v[1].y) * (fx - v[1].x);
-    float e1 = (v[0].x - v[2].x) * (fy - v[2].y) - (v[0].y - v[2].y) * (fx - v[2].x);
-    float e2 = (v[1].x - v[0].x) * (fy - v[0].y) - (v[1].y - v[0].y) * (fx - v[0].x);
-    const float sum = (e0 + e1) + e2;
-    const float lim = -kOutsideTolerance * sum;
-    const bool inside = sum > 0.0f ? (e0 >= lim && e1 >= lim && e2 >= lim) : (e0 <= lim && e1 <= lim && e2 <= lim);
+    // Edge functions of the triangle at the pixel centre (their sum: the doubled signed area).
+    const double fx = double(pix_x) + 0.5, fy = double(pix_y) + 0.5;
+    const glm::dvec2* v = f.v;
+    double e0 = (v[2].x - v[1].x) * (fy - v[1].y) - (v[2].y - v[1].y) * (fx - v[1].x);
+    double e1 = (v[0].x - v[2].x) * (fy - v[2].y) - (v[0].y - v[2].y) * (fx - v[2].x);
+    double e2 = (v[1].x - v[0].x) * (fy - v[0].y) - (v[1].y - v[0].y) * (fx - v[0].x);
+    const double sum = (e0 + e1) + e2;
+    const double lim = -kOutsideTolerance * sum;
+    const bool inside = sum > 0.0 ? (e0 >= lim && e1 >= lim && e2 >= lim) : (e0 <= lim && e1 <= lim && e2 <= lim);
     if (!inside) {
         // Covered only because of snapping: the snapped triangle's exact edge functions (fixed value 256 * p is
-        // pixel p's centre), converted to float once.
+        // pixel p's centre).
         const int64_t cx = int64_t(pix_x) * 256, cy = int64_t(pix_y) * 256;
         auto edge = [&](int a, int b) {
             return (int64_t(f.fx[b]) - f.fx[a]) * (cy - f.fy[a]) - (int64_t(f.fy[b]) - f.fy[a]) * (cx - f.fx[a]);
         };
-        e0 = float(edge(1, 2));
-        e1 = float(edge(2, 0));
-        e2 = float(edge(0, 1));
+        e0 = double(edge(1, 2));
+        e1 = double(edge(2, 0));
+        e2 = double(edge(0, 1));
     }
-    const float w0 = e0 * f.inv_w[0], w1 = e1 * f.inv_w[1], w2 = e2 * f.inv_w[2];
-    const float inv_sum = 1.0f / ((w0 + w1) + w2);
-    const float l0 = w0 * inv_sum, l1 = w1 * inv_sum, l2 = w2 * inv_sum;
+    const double w0 = e0 * f.inv_w[0], w1 = e1 * f.inv_w[1], w2 = e2 * f.inv_w[2];
+    const double inv_sum = 1.0 / ((w0 + w1) + w2);
+    const double l0 = w0 * inv_sum, l1 = w1 * inv_sum, l2 = w2 * inv_sum;
     // The eye-space point, and its distance from the pixel's ray origin o = (ndc_x * ox, ndc_y * oy, 0).
-    const float px = (l0 * f.q[0].x + l1 * f.q[1].x) + l2 * f.q[2].x;
-    const float py = (l0 * f.q[0].y + l1 * f.q[1].y) + l2 * f.q[2].y;
-    const float pz = (l0 * f.q[0].z + l1 * f.q[1].z) + l2 * f.q[2].z;
-    const float ndc_x = (float(pix_x) + 0.5f) * fc.two_over_width - 1.0f;
-    const float ndc_y = (float(pix_y) + 0.5f) * fc.two_over_height - 1.0f;
-    const float dx = px - ndc_x * fc.origin_x, dy = py - ndc_y * fc.origin_y;
-    const float distance = std::sqrt((dx * dx + dy * dy) + pz * pz);
-    const float s = (l0 * f.s[0] + l1 * f.s[1]) + l2 * f.s[2];
-    return {f.side * (1.0f + s), distance};
+    const double px = (l0 * f.q[0].x + l1 * f.q[1].x) + l2 * f.q[2].x;
+    const double py = (l0 * f.q[0].y + l1 * f.q[1].y) + l2 * f.q[2].y;
+    const double pz = (l0 * f.q[0].z + l1 * f.q[1].z) + l2 * f.q[2].z;
+    const double ndc_x = fx * fc.two_over_width - 1.0;
+    const double ndc_y = fy * fc.two_over_height - 1.0;
+    const double dx = px - ndc_x * fc.origin_x, dy = py - ndc_y * fc.origin_y;
+    const double distance = std::sqrt((dx * dx + dy * dy) + pz * pz);
+    const double s = (l0 * f.s[0] + l1 * f.s[1]) + l2 * f.s[2];
+    // The entry as the k-buffer stores it: float32.
+    return {float(f.side * (1.0 + s)), float(distance)};
 }
 
 namespace {
@@ -83,9 +84,11 @@ bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm
         const float t_z = length * fc.length_scale + fc.length_bias;
         c = shade(std::fabs(r[0].x) - 1.0f, std::fabs(second.x) - 1.0f, t_z, length);
     }
+    // Ordering: in front-to-back order each segment starts where the previous one ended. A front nearer than the
+    // previous segment's back means a fragment arrived after the segment across it was composited.
     if (diag && real_entry(r[0])) {
-        if (r[0].y < diag->last_front) ++diag->ordering_errors;
-        diag->last_front = std::fmax(diag->last_front, r[0].y);
+        if (r[0].y < diag->last_back) ++diag->ordering_errors;
+        if (real_entry(second)) diag->last_back = std::fmax(diag->last_back, second.y);
     }
     // Front to back: fb = c * (1 - fb.a) + fb, per channel (MAD, unfused).
     const float one_minus_a = 1.0f - fb.a;

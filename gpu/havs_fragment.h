@@ -4,20 +4,22 @@
 // Two parts, as in the shader:
 //  1. Fragment values. The seed interpolates the scalar and the eye-space position per fragment; interpolators cannot
 //     be mirrored bit for bit, so each face carries flat constants instead (HavsFace, computed once per face on the
-//     CPU and uploaded as they are) and the fragment computes from gl_FragCoord alone. Barycentric weights: the three
-//     2D edge functions at the pixel centre from the face's float window coordinates, accurate to their rounding
-//     (~3e-5 pixel). Rasterization, though, snaps vertices to 1/256 pixel, and a face seen nearly edge-on can cover
-//     pixels its float projection does not; there the float weights would extrapolate, placing the fragment where
-//     there is nothing (an Oxygen Post pixel got two fragments 6 units before the mesh begins). When the pixel lies
-//     outside the float triangle by more than kOutsideTolerance, the weights come instead from the snapped vertices
-//     the rasterizer used: exact integer edge functions (24.8 fixed point: differences below 2^21, products below
-//     2^42, exact in int64 here and in double in the shader), non-negative on every covered pixel, so the fragment
-//     lies inside the triangle the rasterizer drew. Each weight is divided by its vertex's clip w (perspective
-//     correction); the eye-space point is the weighted mean of the vertices' eye-space positions, its distance from
-//     the pixel's ray origin (the eye, or the image plane under orthographic projection) the radial distance of SPEC
-//     §2, and the normalized scalar the weighted mean of the vertices' scalars. Weighted means stay inside the
-//     triangle whatever its angle to the view. Every float operation is written out in a fixed order; the shader
-//     marks them `precise`.
+//     CPU and uploaded as they are) and the fragment computes from gl_FragCoord alone, in double precision (GLSL
+//     4.00's fp64, which llvmpipe implements with IEEE operations). In float, the weights' rounding (window
+//     coordinates carry ~3e-5 pixel of it) against faces a fraction of a pixel across moved Oxygen Post pixels by
+//     1e-3; in double the only rounding that matters is the stored entry's (float32, as the k-buffer holds it).
+//     Barycentric weights: the three 2D edge functions at the pixel centre from the face's window coordinates.
+//     Rasterization snaps vertices to 1/256 pixel, so a face seen nearly edge-on can cover pixels its true
+//     projection does not; there the weights would extrapolate, placing the fragment where there is nothing (an
+//     Oxygen Post pixel got two fragments 6 units before the mesh begins). When the pixel lies outside the triangle
+//     by more than kOutsideTolerance, the weights come instead from the snapped vertices the rasterizer used: exact
+//     integer edge functions (24.8 fixed point: differences below 2^21, products below 2^42, exact in int64 and in
+//     double), non-negative on every covered pixel, so the fragment lies inside the triangle the rasterizer drew.
+//     Each weight is divided by its vertex's clip w (perspective correction); the eye-space point is the weighted
+//     mean of the vertices' eye-space positions, its distance from the pixel's ray origin (the eye, or the image
+//     plane under orthographic projection) the radial distance of SPEC §2, and the normalized scalar the weighted
+//     mean of the vertices' scalars. Weighted means stay inside the triangle whatever its angle to the view. Every
+//     operation is written out in a fixed order; the shader marks them `precise`.
 //  2. The k-buffer program: the seed's selection chain generalized to k stored entries, its tie behaviour, the opacity
 //     kill, the nullified contribution, the table coordinates with the seed's scale and bias, front-to-back
 //     compositing, and the write-back of the remaining entries.
@@ -49,29 +51,32 @@ inline constexpr KEntry kFlushFragment{-1.0f, __builtin_inff()};
 
 // Per-frame constants (uniforms).
 struct HavsFrameConstants {
-    float two_over_width = 0.0f, two_over_height = 0.0f;  // gl_FragCoord -> NDC: ndc = coord * (2 / size) - 1
-    float origin_x = 0.0f, origin_y = 0.0f;  // orthographic: half width and half height of the view; perspective: 0
+    double two_over_width = 0.0, two_over_height = 0.0;  // gl_FragCoord -> NDC: ndc = coord * (2 / size) - 1
+    double origin_x = 0.0, origin_y = 0.0;   // orthographic: half width and half height of the view; perspective: 0
     float threshold = 0.99f;                 // the opacity kill (KIL 0.99 - alpha)
     float length_scale = 0.0f, length_bias = 0.0f;  // the seed's sz.z and sz.w
-    float max_gap = 0.0f;  // --gaps maxgap: segments longer than this contribute nothing; 0 = exact gaps
+    float max_gap = 0.0f;  // segments longer than this contribute nothing (the longest edge; 0 = no limit)
 };
 
 // Per-face constants (flat), computed by the CPU stage (havs.cpp) in double and rounded to float once.
 struct HavsFace {
-    glm::vec3 q[3];                       // eye-space positions of the vertices
-    glm::vec2 v[3];                       // float window coordinates of the vertices (viewport_transform)
-    int32_t fx[3] = {0, 0, 0}, fy[3] = {0, 0, 0};  // the same snapped as the rasterizer snaps them (24.8)
-    float inv_w[3] = {0, 0, 0};           // 1 / clip w of each vertex
-    float s[3] = {0, 0, 0};               // normalized scalar of each vertex, in [0, 1]
+    glm::dvec3 q[3];                      // eye-space positions of the vertices
+    glm::dvec2 v[3];                      // window coordinates of the vertices (window_position_d)
+    int32_t fx[3] = {0, 0, 0}, fy[3] = {0, 0, 0};  // the rasterizer's snapped vertices (viewport_transform, 24.8)
+    double inv_w[3] = {0, 0, 0};          // 1 / clip w of each vertex
+    double s[3] = {0, 0, 0};              // normalized scalar of each vertex, in [0, 1]
     float side = 1.0f;                    // -1: a boundary face the ray leaves the mesh through (exact gaps)
 };
 
-// How far outside the float triangle a pixel centre may lie, as a fraction of the triangle's doubled area (the sum of
-// its edge functions), and still take the float weights. A pixel whose coverage comes from snapping lies up to 1/512
-// pixel outside, i.e. 1e-3 of the doubled area for a triangle of about 2 square pixels and far more for slivers; the
-// float edge functions' own rounding is ~3e-5 pixel times an edge length, below 1e-3 of the doubled area unless the
-// triangle is thinner than ~0.03 pixel. Between the two, either choice is consistent with the coverage.
-inline constexpr float kOutsideTolerance = 1e-3f;
+// How far outside the triangle a pixel centre may lie and still take the exact weights, as a fraction of the
+// triangle's height over the edge it is beyond (a weight of -kOutsideTolerance). Two kinds of coverage lie outside:
+// a pixel near an edge that snapping handed to the neighbouring face (a weight of -1e-4 to -0.05 here): extrapolating
+// this face's plane a little past the edge is accurate, while the snapped weights would move the point by up to
+// 1/512 pixel along the face, a large depth error on faces seen at a grazing angle (0.03 units on an Oxygen Post
+// pixel); and a sliver seen edge-on whose snapped triangle covers pixels its true one does not (weights of -200),
+// where only the snapped weights keep the fragment on the mesh. Measured on Blunt Fin, the Oxygen Post and the torus
+// (docs/havs.md): 0.1 separates the two.
+inline constexpr double kOutsideTolerance = 0.1;
 
 // The incoming fragment's entry at window pixel (px, py) (gl_FragCoord.xy = (px + 0.5, py + 0.5)).
 KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& face, int px, int py);
@@ -83,8 +88,8 @@ using SegmentShader = std::function<glm::vec4(float u_front, float u_back, float
 struct KBufferDiagnostics {
     uint32_t fragments = 0;        // fragments that reached the program (flush passes not counted)
     uint32_t max_held = 0;         // most real entries stored at once
-    uint32_t ordering_errors = 0;  // a segment composited from a front nearer than an earlier composited front
-    float last_front = 0.0f;       // distance of the last composited real front (bookkeeping)
+    uint32_t ordering_errors = 0;  // a segment composited from a front nearer than the previous segment's back
+    float last_back = 0.0f;        // back distance of the last composited segment (bookkeeping)
 };
 
 // The emulation takes any k from 1 to kMaxK (the GL backend every k its draw buffers allow).

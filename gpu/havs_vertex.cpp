@@ -86,7 +86,18 @@ ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b)
         p[3][2] = -2.0 * f * n / (f - n);
     }
     const Mat4d v = view_matrix(cam);
-    return {to_float(v), to_float(p), to_float(multiply(p, v))};
+    const Mat4d mvp = multiply(p, v);
+    return {to_float(v), to_float(p), to_float(mvp), mvp};
+}
+
+void window_position_d(const ViewSetup& vs, const glm::dvec3& p, int width, int height, double& x, double& y,
+                       double& inv_w)
+{
+    double c[4];
+    for (int r = 0; r < 4; ++r) c[r] = vs.mvp_d[0][r] * p.x + vs.mvp_d[1][r] * p.y + vs.mvp_d[2][r] * p.z + vs.mvp_d[3][r];
+    inv_w = 1.0 / c[3];
+    x = (c[0] * inv_w + 1.0) * (0.5 * width);
+    y = (c[1] * inv_w + 1.0) * (0.5 * height);
 }
 
 std::array<float, 4> clip_position(const Mat4f& m, const glm::vec3& p)

@@ -22,6 +22,7 @@ struct ViewSetup {
     Mat4f view;        // world -> eye (rigid: distances are world units); the eye looks down -z
     Mat4f projection;  // eye -> clip (OpenGL conventions, depth in [-1, 1])
     Mat4f mvp;         // projection * view, multiplied in double before rounding
+    std::array<std::array<double, 4>, 4> mvp_d;  // the same in double (the fragment stage's exact geometry)
 };
 
 // Near and far planes enclose `bounds` seen from the camera (with a margin), so the draw module never clips a face
@@ -30,6 +31,12 @@ ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& bou
 
 // clip = mvp * vec4(p, 1): each row as ((m0 * x + m1 * y) + m2 * z) + m3, float32, unfused.
 std::array<float, 4> clip_position(const Mat4f& mvp, const glm::vec3& p);
+
+// Window coordinates (GL: origin bottom-left) and 1 / w of a point, in double, for a glViewport(0, 0, width, height):
+// the geometry the fragment stage's barycentric weights use. The rasterizer's own float coordinates
+// (viewport_transform) agree with these to their rounding.
+void window_position_d(const ViewSetup& vs, const glm::dvec3& p, int width, int height, double& x, double& y,
+                       double& inv_w);
 
 // Eye-space position (view * vec4(p, 1)).xyz in double, for the CPU stage's per-face constants.
 glm::dvec3 eye_position(const Camera& cam, const glm::dvec3& p);

@@ -1,0 +1,195 @@
+// The k-buffer fragment program (seed 000, Appendix II) on hand-made inputs, one behaviour per case.
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "gpu/havs_fragment.h"
+#include "test_support.h"
+
+using namespace uvr::gpu;
+
+namespace {
+
+struct Call {
+    float u_front, u_back, t_z, length;
+};
+
+// A segment shader that records its calls and returns a fixed colour, so compositing is checkable by hand.
+struct Recorder {
+    std::vector<Call> calls;
+    glm::vec4 colour{0.25f, 0.5f, 0.125f, 0.5f};
+    SegmentShader shader()
+    {
+        return [this](float uf, float ub, float tz, float len) {
+            calls.push_back({uf, ub, tz, len});
+            return colour;
+        };
+    }
+};
+
+HavsFrameConstants frame(float threshold = 0.99f)
+{
+    HavsFrameConstants fc;
+    fc.threshold = threshold;
+    fc.length_scale = 0.5f;
+    fc.length_bias = 0.125f;
+    return fc;
+}
+
+KEntry frag(float s, float d, float side = 1.0f) { return {side * (1.0f + s), d}; }
+
+}  // namespace
+
+TEST_CASE("k-buffer keeps the nearest entry on a tie")
+{
+    // Two entries at the same distance: the one already stored is taken as the front; the incoming one stays.
+    Recorder rec;
+    std::vector<KEntry> buf{frag(0.25f, 2.0f), frag(0.5f, 3.0f)};
+    glm::vec4 fb(0.0f);
+    REQUIRE(havs_kbuffer(frame(), frag(0.75f, 2.0f), buf.data(), 2, fb, rec.shader(), nullptr));
+    REQUIRE(rec.calls.size() == 1);
+    CHECK(rec.calls[0].u_front == 0.25f);  // the stored entry
+    CHECK(rec.calls[0].u_back == 0.75f);   // the incoming one, at zero distance behind
+    CHECK(rec.calls[0].length == 0.0f);
+    // The incoming entry was written back, the winner discarded.
+    CHECK(((buf[0].x == frag(0.75f, 2.0f).x && buf[0].y == 2.0f) || (buf[1].x == frag(0.75f, 2.0f).x && buf[1].y == 2.0f)));
+}
+
+TEST_CASE("the nearest entry is composited with the second nearest, and the rest is written back")
+{
+    Recorder rec;
+    std::vector<KEntry> buf{frag(0.1f, 5.0f), frag(0.2f, 1.0f), frag(0.3f, 4.0f)};
+    glm::vec4 fb(0.0f);
+    REQUIRE(havs_kbuffer(frame(), frag(0.4f, 3.0f), buf.data(), 3, fb, rec.shader(), nullptr));
+    REQUIRE(rec.calls.size() == 1);
+    CHECK(rec.calls[0].u_front == Approx(0.2f));
+    CHECK(rec.calls[0].u_back == Approx(0.4f));
+    CHECK(rec.calls[0].length == 2.0f);
+    CHECK(rec.calls[0].t_z == 2.0f * 0.5f + 0.125f);  // the seed's scale and bias
+    std::vector<float> kept;
+    for (const KEntry& e : buf) kept.push_back(e.y);
+    std::sort(kept.begin(), kept.end());
+    CHECK(kept == std::vector<float>{3.0f, 4.0f, 5.0f});
+}
+
+TEST_CASE("compositing is front to back: the framebuffer gains c (1 - alpha)")
+{
+    Recorder rec;
+    std::vector<KEntry> buf{frag(0.1f, 1.0f)};
+    glm::vec4 fb(0.1f, 0.2f, 0.3f, 0.5f);
+    REQUIRE(havs_kbuffer(frame(), frag(0.2f, 2.0f), buf.data(), 1, fb, rec.shader(), nullptr));
+    CHECK(fb.r == 0.25f * 0.5f + 0.1f);
+    CHECK(fb.g == 0.5f * 0.5f + 0.2f);
+    CHECK(fb.b == 0.125f * 0.5f + 0.3f);
+    CHECK(fb.a == 0.5f * 0.5f + 0.5f);
+}
+
+TEST_CASE("the opacity kill stops a fragment above the threshold and writes nothing")
+{
+    Recorder rec;
+    std::vector<KEntry> buf{frag(0.1f, 1.0f)};
+    SECTION("alpha exactly at the threshold is not killed")
+    {
+        glm::vec4 fb(0.0f, 0.0f, 0.0f, 0.99f);
+        CHECK(havs_kbuffer(frame(0.99f), frag(0.2f, 2.0f), buf.data(), 1, fb, rec.shader(), nullptr));
+    }
+    SECTION("alpha one ulp above is killed: buffer and framebuffer untouched")
+    {
+        glm::vec4 fb(0.0f, 0.0f, 0.0f, std::nextafter(0.99f, 1.0f));
+        const glm::vec4 before = fb;
+        CHECK_FALSE(havs_kbuffer(frame(0.99f), frag(0.2f, 2.0f), buf.data(), 1, fb, rec.shader(), nullptr));
+        CHECK(fb == before);
+        CHECK(buf[0].y == 1.0f);
+        CHECK(rec.calls.empty());
+    }
+    SECTION("threshold 1 never kills")
+    {
+        glm::vec4 fb(0.0f, 0.0f, 0.0f, 1.0f);
+        CHECK(havs_kbuffer(frame(1.0f), frag(0.2f, 2.0f), buf.data(), 1, fb, rec.shader(), nullptr));
+    }
+}
+
+TEST_CASE("a segment that starts on an exit face, an empty entry or ends on a flush is nullified")
+{
+    Recorder rec;
+    glm::vec4 fb(0.0f);
+    SECTION("exit face: a gap follows")
+    {
+        std::vector<KEntry> buf{frag(0.3f, 1.0f, -1.0f)};
+        havs_kbuffer(frame(), frag(0.2f, 2.0f), buf.data(), 1, fb, rec.shader(), nullptr);
+        CHECK(rec.calls.empty());
+        CHECK(fb == glm::vec4(0.0f));
+    }
+    SECTION("empty entries are consumed first without a contribution")
+    {
+        std::vector<KEntry> buf(3, kEmptyEntry);
+        for (float d : {1.0f, 2.0f, 3.0f}) havs_kbuffer(frame(), frag(0.5f, d), buf.data(), 3, fb, rec.shader(), nullptr);
+        CHECK(rec.calls.empty());
+        // The fourth fragment composites the first two real ones.
+        havs_kbuffer(frame(), frag(0.5f, 4.0f), buf.data(), 3, fb, rec.shader(), nullptr);
+        REQUIRE(rec.calls.size() == 1);
+        CHECK(rec.calls[0].length == 1.0f);
+    }
+    SECTION("the flush passes composite what is left and nothing reaches infinity")
+    {
+        std::vector<KEntry> buf{frag(0.1f, 1.0f), frag(0.2f, 2.0f), frag(0.3f, 3.0f, -1.0f)};
+        for (int pass = 0; pass < 3; ++pass) havs_kbuffer(frame(), kFlushFragment, buf.data(), 3, fb, rec.shader(), nullptr);
+        REQUIRE(rec.calls.size() == 2);  // 1 -> 2 and 2 -> 3; the exit face's segment to the flush is nullified
+        CHECK(rec.calls[0].length == 1.0f);
+        CHECK(rec.calls[1].length == 1.0f);
+        for (const KEntry& e : buf) CHECK(e.y == kFlushFragment.y);
+    }
+    SECTION("--gaps maxgap: a segment longer than the gap is nullified, exit faces are not marked")
+    {
+        HavsFrameConstants fc = frame();
+        fc.max_gap = 1.5f;
+        std::vector<KEntry> buf{frag(0.1f, 1.0f)};
+        havs_kbuffer(fc, frag(0.2f, 3.0f), buf.data(), 1, fb, rec.shader(), nullptr);
+        CHECK(rec.calls.empty());
+        havs_kbuffer(fc, frag(0.2f, 4.0f), buf.data(), 1, fb, rec.shader(), nullptr);
+        CHECK(rec.calls.size() == 1);
+    }
+}
+
+TEST_CASE("an ordering error is counted when a front nearer than an earlier front is composited")
+{
+    Recorder rec;
+    KBufferDiagnostics diag;
+    std::vector<KEntry> buf{frag(0.1f, 1.0f)};
+    glm::vec4 fb(0.0f);
+    havs_kbuffer(frame(), frag(0.2f, 3.0f), buf.data(), 1, fb, rec.shader(), &diag);  // composites 1 -> 3
+    havs_kbuffer(frame(), frag(0.2f, 2.0f), buf.data(), 1, fb, rec.shader(), &diag);  // 2 arrives too late
+    CHECK(diag.ordering_errors == 1);
+    CHECK(diag.fragments == 2);
+    CHECK(diag.max_held == 1);
+}
+
+TEST_CASE("fragment values: a face's distance and scalar at a pixel centre")
+{
+    // A face perpendicular to the view axis at distance 4, seen by an orthographic camera (eye-space z = -4): every
+    // pixel inside it gets distance 4, and the scalar interpolates linearly in window x.
+    HavsFrameConstants fc;
+    fc.two_over_width = 2.0 / 8.0;
+    fc.two_over_height = 2.0 / 8.0;
+    fc.origin_x = fc.origin_y = 1.0;
+    HavsFace f;
+    f.q[0] = {-1.0, -1.0, -4.0};
+    f.q[1] = {3.0, -1.0, -4.0};
+    f.q[2] = {-1.0, 3.0, -4.0};
+    f.v[0] = {0.0, 0.0};
+    f.v[1] = {16.0, 0.0};
+    f.v[2] = {0.0, 16.0};
+    for (int j = 0; j < 3; ++j) {
+        f.fx[j] = int32_t((f.v[j].x - 0.5) * 256);
+        f.fy[j] = int32_t((f.v[j].y - 0.5) * 256);
+        f.inv_w[j] = 1.0;
+    }
+    f.s[0] = 0.0;
+    f.s[1] = 1.0;
+    f.s[2] = 0.0;
+    const KEntry e = havs_fragment_entry(fc, f, 3, 2);  // pixel centre (3.5, 2.5): ndc (-0.125, -0.375)
+    CHECK(e.y == Approx(4.0).epsilon(1e-6));
+    CHECK(e.x == Approx(1.0 + 3.5 / 16.0).epsilon(1e-6));
+    f.side = -1.0;
+    CHECK(havs_fragment_entry(fc, f, 3, 2).x < 0.0f);
+}
