@@ -13,6 +13,7 @@
 
 #include "bench/commands.h"
 #include "bench/scene.h"
+#include "gpu/havs.h"
 #include "reference/error.h"
 #include "reference/reference_renderer.h"
 
@@ -25,6 +26,7 @@ struct BenchArgs {
     std::string algos = "reference";
     int repeat = 5;
     int warmup = 1;
+    int k = 6;
     bool json = false;
 };
 
@@ -83,6 +85,46 @@ nlohmann::json bench_reference(const Scene& s, const BenchArgs& a)
     return j;
 }
 
+nlohmann::json bench_havs(const Scene& s, const BenchArgs& a)
+{
+    gpu::HavsOptions o;
+    o.k = a.k;
+    const auto t0 = Clock::now();
+    const gpu::HavsRenderer havs(s.mesh(), *s.topology, s.field, s.tf, o);
+    const double build_ms = ms_since(t0);
+    std::vector<double> frame_ms, sort_ms, setup_ms, raster_ms, flush_ms;
+    gpu::HavsStats last;
+    for (int r = 0; r < a.warmup + a.repeat; ++r) {
+        const auto f0 = Clock::now();
+        const gpu::HavsFrame f = havs.render(s.camera, s.width, s.height);
+        const double ms = ms_since(f0);
+        if (r < a.warmup) continue;
+        frame_ms.push_back(ms);
+        sort_ms.push_back(f.stats.sort_ms);
+        setup_ms.push_back(f.stats.setup_ms);
+        raster_ms.push_back(f.stats.raster_fragment_ms);
+        flush_ms.push_back(f.stats.flush_ms);
+        last = f.stats;
+    }
+    const double fm = median(frame_ms);
+    nlohmann::json j;
+    j["algo"] = "havs";
+    j["backend"] = "emu";
+    j["k"] = a.k;
+    j["frame_ms"] = fm;
+    j["frame_ms_all"] = frame_ms;
+    j["stages"] = {{"sort", median(sort_ms)},
+                   {"vertex_and_binning", median(setup_ms)},
+                   {"raster_and_fragment", median(raster_ms)},
+                   {"flush", median(flush_ms)}};
+    j["table_build_ms"] = build_ms;
+    j["faces"] = last.faces;
+    j["fragments"] = last.fragments;
+    j["fragments_per_s"] = double(last.fragments) / (median(raster_ms) / 1000.0);
+    j["ordering_errors"] = last.ordering_errors;
+    return j;
+}
+
 }  // namespace
 
 void register_bench(CLI::App& app)
@@ -90,9 +132,10 @@ void register_bench(CLI::App& app)
     auto* cmd = app.add_subcommand("bench", "Time each algorithm and each stage (median over repetitions)");
     auto a = std::make_shared<BenchArgs>();
     add_scene_options(*cmd, a->scene);
-    cmd->add_option("--algos,--algo", a->algos, "Comma-separated algorithms (reference)")->capture_default_str();
+    cmd->add_option("--algos,--algo", a->algos, "Comma-separated algorithms (reference, havs)")->capture_default_str();
     cmd->add_option("--repeat", a->repeat, "Timed repetitions")->capture_default_str()->check(CLI::Range(1, 1000));
     cmd->add_option("--warmup", a->warmup, "Untimed repetitions first")->capture_default_str()->check(CLI::Range(0, 100));
+    cmd->add_option("--k", a->k, "HAVS: k-buffer entries")->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     cmd->callback([a] {
         std::vector<std::string> algos;
@@ -100,8 +143,8 @@ void register_bench(CLI::App& app)
         for (std::string x; std::getline(ss, x, ',');)
             if (!x.empty()) algos.push_back(x);
         for (const auto& x : algos)
-            if (x != "reference")
-                throw InputError("", "--algos " + x + " is not available yet: only the reference has landed");
+            if (x != "reference" && x != "havs")
+                throw InputError("", "--algos " + x + " is not available yet: reference and havs (emu) have landed");
         const auto t0 = Clock::now();
         const Scene s = setup_scene(a->scene);
         const double load_ms = ms_since(t0);
@@ -114,7 +157,7 @@ void register_bench(CLI::App& app)
         out["machine"] = {{"cpu", cpu_model()}, {"threads", std::thread::hardware_concurrency()}};
         out["results"] = nlohmann::json::array();
         for (const auto& x : algos)
-            if (x == "reference") out["results"].push_back(bench_reference(s, *a));
+            out["results"].push_back(x == "reference" ? bench_reference(s, *a) : bench_havs(s, *a));
         out["peak_rss_mib"] = peak_rss_mib();
         out["bytes_per_tet"] = peak_rss_mib() * 1024.0 * 1024.0 / double(s.mesh().tets.size());
         if (a->json) {
@@ -123,11 +166,21 @@ void register_bench(CLI::App& app)
         }
         std::printf("%s: %zu tetrahedra, %dx%d, %s (%u threads)\n", a->scene.input.path.c_str(), s.mesh().tets.size(),
                     s.width, s.height, cpu_model().c_str(), std::thread::hardware_concurrency());
-        for (const auto& r : out["results"])
-            std::printf("  %-10s %-4s %9.1f ms/frame  %6.2f Mrays/s  %6.2f Msegments/s  (setup %.1f ms)\n",
-                        r["algo"].get<std::string>().c_str(), r["backend"].get<std::string>().c_str(),
-                        r["frame_ms"].get<double>(), r["rays_per_s"].get<double>() / 1e6,
-                        r["segments_per_s"].get<double>() / 1e6, r["stages"]["setup"].get<double>());
+        for (const auto& r : out["results"]) {
+            std::printf("  %-10s %-4s %9.1f ms/frame ", r["algo"].get<std::string>().c_str(),
+                        r["backend"].get<std::string>().c_str(), r["frame_ms"].get<double>());
+            if (r["algo"] == "reference")
+                std::printf(" %6.2f Mrays/s  %6.2f Msegments/s  (setup %.1f ms)\n",
+                            r["rays_per_s"].get<double>() / 1e6, r["segments_per_s"].get<double>() / 1e6,
+                            r["stages"]["setup"].get<double>());
+            else
+                std::printf(" k=%d  %6.2f Mfragments/s  sort %.1f, vertex+bin %.1f, raster+fragment %.1f, flush %.1f ms "
+                            "(table built in %.0f ms)\n",
+                            r["k"].get<int>(), r["fragments_per_s"].get<double>() / 1e6,
+                            r["stages"]["sort"].get<double>(), r["stages"]["vertex_and_binning"].get<double>(),
+                            r["stages"]["raster_and_fragment"].get<double>(), r["stages"]["flush"].get<double>(),
+                            r["table_build_ms"].get<double>());
+        }
         std::printf("  peak memory %.1f MiB (%.0f bytes per tetrahedron)\n", out["peak_rss_mib"].get<double>(),
                     out["bytes_per_tet"].get<double>());
     });

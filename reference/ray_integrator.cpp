@@ -78,7 +78,7 @@ RayIntegrator::RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std:
     : mesh_(mesh), topo_(topo), field_(mesh.fields.at(field)), segment_(tf), embree_(std::make_unique<Embree>())
 {
     // Gradient of the linear field in each tetrahedron: solve [e1; e2; e3] g = ds by Cramer's rule.
-    gradient_.resize(mesh.tets.size(), glm::dvec3(0.0));
+    gradient_.resize(mesh.tets.size(), glm::dvec4(0.0));
     for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
         const Tet& tet = mesh.tets[t];
         const glm::dvec3 p0 = mesh.points[tet[0]];
@@ -86,9 +86,11 @@ RayIntegrator::RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std:
         const double s0 = field_.values[tet[0]];
         const glm::dvec3 ds(field_.values[tet[1]] - s0, field_.values[tet[2]] - s0, field_.values[tet[3]] - s0);
         const double det = glm::dot(e1, glm::cross(e2, e3));
+        gradient_[t].w = s0;
         if (det == 0.0) continue;  // a flat cell: never entered
         // Rows of the inverse of [e1; e2; e3] are the columns (e2 x e3, e3 x e1, e1 x e2) / det.
-        gradient_[t] = (ds.x * glm::cross(e2, e3) + ds.y * glm::cross(e3, e1) + ds.z * glm::cross(e1, e2)) / det;
+        const glm::dvec3 g = (ds.x * glm::cross(e2, e3) + ds.y * glm::cross(e3, e1) + ds.z * glm::cross(e1, e2)) / det;
+        gradient_[t] = glm::dvec4(g, s0);
     }
 
     next_.assign(mesh.tets.size(), {kNoNeighbor, kNoNeighbor, kNoNeighbor, kNoNeighbor});
@@ -142,8 +144,8 @@ RayIntegrator::~RayIntegrator() = default;
 
 double RayIntegrator::scalar_at(uint32_t t, const glm::dvec3& p) const
 {
-    const uint32_t v0 = mesh_.tets[t][0];
-    return field_.values[v0] + glm::dot(gradient_[t], p - mesh_.points[v0]);
+    const glm::dvec4& g = gradient_[t];
+    return g.w + glm::dot(glm::dvec3(g), p - mesh_.points[mesh_.tets[t][0]]);
 }
 
 int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, glm::dvec4& acc, double& t_out,
@@ -194,7 +196,8 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, glm::dvec
             return -1;
         }
         const double t1 = std::max(t_in, best_num / best_den);
-        const double s_out = field_.values[T[0]] + glm::dot(gradient_[tet], (t1 * ray.dir) - w);
+        const glm::dvec4& g = gradient_[tet];
+        const double s_out = g.w + glm::dot(glm::dvec3(g), (t1 * ray.dir) - w);
         if (t1 > t_in) {
             acc = composite_over(acc, segment_.integrate(s_in, s_out, t1 - t_in));
             zero_steps = 0;

@@ -51,7 +51,9 @@ private:
     const MeshTopology& topo_;
     const ScalarField& field_;
     SegmentIntegrator segment_;
-    std::vector<glm::dvec3> gradient_;  // per tetrahedron, of the field
+    // Per tetrahedron: the field's gradient (xyz) and its value at vertex 0 (w), together so that a step reads one
+    // record: s(p) = w + xyz . (p - p0).
+    std::vector<glm::dvec4> gradient_;
     // Per tetrahedron and local face: the neighbour across it and the shared face's local index in the neighbour,
     // packed as (tet << 2) | local, or kNoNeighbor on the boundary. Saves the walk a search per step.
     std::vector<std::array<uint32_t, 4>> next_;

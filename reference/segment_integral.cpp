@@ -14,8 +14,8 @@ namespace {
 constexpr double kSqrtPi = 1.77245385090551602730;
 
 // Terms below this contribute nothing at double precision to J, which lies in [e^{-(A+B)}, 1] and is used for
-// absolute accuracy (kOracleTolerance in the tests is 1e-10).
-constexpr double kNegligible = 1e-18;
+// absolute accuracy (kOracleTolerance in the tests is 1e-10): 1e-17 is a tenth of an ulp of 1.
+constexpr double kNegligible = 1e-17;
 
 // J for |B| < kSmallQuadratic: sum_n (-B)^n / n! M_2n(A), stopping once the coefficient is negligible (M_2n <= 1).
 // For A <= 4, M_k(A) = integral_0^1 u^k exp(-A u) du comes from its series sum_j (-A)^j / (j! (k + j + 1)), with
@@ -59,6 +59,23 @@ double small_quadratic(double A, double B)
     return sum;
 }
 
+// 1 - e^{-d}. Most pieces of a fine mesh are optically thin: below d = 1/32 the alternating series
+// d - d^2/2 + ... - d^8/8! has first omitted term d^9/9! < 1e-19 (relative error ~1e-16, as expm1's), at a fraction of
+// expm1's cost.
+double opacity_of_depth(double d)
+{
+    if (!(d < 0.03125)) return -std::expm1(-d);
+    double r = 1.0 / 40320.0;
+    r = 1.0 / 5040.0 - d * r;
+    r = 1.0 / 720.0 - d * r;
+    r = 1.0 / 120.0 - d * r;
+    r = 1.0 / 24.0 - d * r;
+    r = 1.0 / 6.0 - d * r;
+    r = 0.5 - d * r;
+    r = 1.0 - d * r;
+    return d * r;
+}
+
 }  // namespace
 
 double depth_average_transmittance(double A, double B)
@@ -86,7 +103,7 @@ glm::dvec4 integrate_linear_piece(const glm::dvec3& c0, const glm::dvec3& c1, do
     const double A = tau0 * L;
     const double B = 0.5 * (tau1 - tau0) * L;
     const double depth = 0.5 * (tau0 + tau1) * L;
-    const double alpha = -std::expm1(-depth);
+    const double alpha = opacity_of_depth(depth);
     const double trans = 1.0 - alpha;  // absolute error 1e-16: all that C and alpha need
     const double J = depth_average_transmittance(A, B);
     // C = c0 - c1 e^{-T} + (c1 - c0) J, rearranged as c0 (1 - J) + c1 (J - e^{-T}) so that both weights are
