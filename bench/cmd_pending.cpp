@@ -24,8 +24,6 @@ void pending(CLI::App& app, const char* name, const char* description, const cha
 
 void register_pending(CLI::App& app)
 {
-    pending(app, "compare", "Render with several algorithms and measure each against the reference",
-            "it needs the reference renderer and at least one GPU algorithm");
     pending(app, "sweep", "Error of HAVS against the k-buffer size k", "it needs the HAVS emulation");
 }
 

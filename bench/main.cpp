@@ -18,6 +18,7 @@ int main(int argc, char** argv)
     register_render(app);
     register_bench(app);
     register_export(app);
+    register_compare(app);
     register_pending(app);
     register_demo(app);
     try {

@@ -1,0 +1,127 @@
+#include "bench/algorithms.h"
+
+#include <chrono>
+#include <sstream>
+
+#include "bench/progress.h"
+#include "reference/error.h"
+#include "reference/image_cache.h"
+#include "reference/reference_renderer.h"
+
+namespace uvr::cli {
+
+void add_algo_options(CLI::App& cmd, AlgoOptions& o)
+{
+    cmd.add_option("--backend", o.backend, "emu | gl")->capture_default_str();
+    cmd.add_option("--k", o.k, "HAVS: k-buffer entries")->capture_default_str();
+    cmd.add_option("--segment", o.segment, "HAVS: table | exact (emulation only)")->capture_default_str();
+    cmd.add_option("--gaps", o.gaps, "HAVS: exact | maxgap (VTK's heuristic)")->capture_default_str();
+    cmd.add_option("--threshold", o.threshold, "Early-termination opacity (HAVS 0.99; 1 switches it off)");
+    cmd.add_option("--table-size", o.table_size, "HAVS: pre-integration table texels per axis")->capture_default_str();
+    cmd.add_option("--table-format", o.table_format, "HAVS: f32 | u16 | u8")->capture_default_str();
+    cmd.add_flag("--no-cache", o.no_cache, "Do not read or write the reference image cache");
+}
+
+gpu::HavsOptions havs_options(const AlgoOptions& a)
+{
+    gpu::HavsOptions o;
+    o.k = a.k;
+    if (a.segment != "table" && a.segment != "exact") throw InputError("", "--segment must be table or exact");
+    o.segment = a.segment == "exact" ? gpu::SegmentMode::exact : gpu::SegmentMode::table;
+    if (a.gaps != "exact" && a.gaps != "maxgap") throw InputError("", "--gaps must be exact or maxgap");
+    o.gaps = a.gaps == "maxgap" ? gpu::GapMode::maxgap : gpu::GapMode::exact;
+    if (a.threshold >= 0.0 && a.threshold > 1.0) throw InputError("", "--threshold must be in [0, 1]");
+    o.threshold = a.threshold < 0.0 ? 0.99f : float(a.threshold);
+    if (a.table_size < 2 || a.table_size > 1024) throw InputError("", "--table-size must be between 2 and 1024");
+    o.table_size = a.table_size;
+    if (a.table_format == "f32")
+        o.table_format = gpu::TexelFormat::f32;
+    else if (a.table_format == "u16")
+        o.table_format = gpu::TexelFormat::u16;
+    else if (a.table_format == "u8")
+        o.table_format = gpu::TexelFormat::u8;
+    else
+        throw InputError("", "--table-format must be f32, u16 or u8");
+    return o;
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+AlgoResult run_reference(const Scene& s, bool use_cache)
+{
+    AlgoResult r;
+    const std::string key = reference_cache_key(s.mesh(), s.field, s.tf, s.camera, s.width, s.height);
+    if (use_cache) {
+        if (auto img = cache_load(key, s.width, s.height)) {
+            r.image = std::move(*img);
+            r.cached = true;
+            r.stats = {{"cached", true}};
+            return r;
+        }
+    }
+    const RayIntegrator integrator(s.mesh(), *s.topology, s.field, s.tf);
+    ProgressBar bar("reference");
+    ReferenceStats st;
+    r.image = render_reference(integrator, s.camera, s.width, s.height, st, [&](double f) { bar.update(f); });
+    bar.finish();
+    if (st.failures)
+        throw InputError(s.mesh().source, std::to_string(st.failures) +
+                                              " rays were abandoned by the walk's guards; the image would be wrong");
+    if (use_cache) cache_store(key, r.image);
+    r.ms = st.seconds * 1000.0;
+    r.stats = {{"cached", false}, {"rays", st.rays}, {"segments", st.segments}, {"entries", st.entries}};
+    return r;
+}
+
+AlgoResult run_havs(const Scene& s, const AlgoOptions& a)
+{
+    if (a.backend != "emu")
+        throw InputError("", "--backend " + a.backend + " is not available yet for HAVS: only emu (the GL backend is "
+                             "issue 5)");
+    const auto t0 = Clock::now();
+    const gpu::HavsRenderer havs(s.mesh(), *s.topology, s.field, s.tf, havs_options(a));
+    gpu::HavsFrame f = havs.render(s.camera, s.width, s.height);
+    AlgoResult r;
+    r.ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    const auto& st = f.stats;
+    r.stats = {{"k", a.k}, {"segment", a.segment}, {"gaps", a.gaps}, {"faces", st.faces}, {"fragments", st.fragments},
+               {"max_fragments_per_pixel", st.max_fragments}, {"max_held", st.max_held},
+               {"ordering_errors", st.ordering_errors},
+               {"stages_ms", {{"table", st.table_ms}, {"sort", st.sort_ms}, {"setup", st.setup_ms},
+                              {"raster_fragment", st.raster_fragment_ms}, {"flush", st.flush_ms}}}};
+    r.image = std::move(f.image);
+    r.fragments = std::move(f.fragments);
+    r.max_held = std::move(f.max_held);
+    r.ordering_errors = std::move(f.ordering_errors);
+    return r;
+}
+
+}  // namespace
+
+void run_algorithm_check(const std::string& algo)
+{
+    if (algo == "reference" || algo == "havs") return;
+    if (algo == "vicp" || algo == "raycast")
+        throw InputError("", "--algo " + algo + " is not available yet: reference and havs (emu) have landed "
+                             "(docs/status.md)");
+    throw InputError("", "unknown algorithm '" + algo + "' (reference, havs, vicp, raycast)");
+}
+
+AlgoResult run_algorithm(const Scene& s, const std::string& algo, const AlgoOptions& o)
+{
+    run_algorithm_check(algo);
+    return algo == "reference" ? run_reference(s, !o.no_cache) : run_havs(s, o);
+}
+
+std::vector<std::string> split_list(const std::string& s)
+{
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    for (std::string x; std::getline(ss, x, ',');)
+        if (!x.empty()) out.push_back(x);
+    return out;
+}
+
+}  // namespace uvr::cli

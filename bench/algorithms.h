@@ -1,0 +1,48 @@
+// Running one algorithm on a scene, the same way for every command (render, compare, sweep, bench).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "bench/scene.h"
+#include "gpu/havs.h"
+#include "reference/image.h"
+
+namespace uvr::cli {
+
+struct AlgoOptions {
+    std::string backend = "emu";
+    int k = 6;
+    std::string segment = "table";
+    std::string gaps = "exact";
+    double threshold = -1.0;  // per algorithm default (SPEC §3): HAVS 0.99
+    int table_size = 128;
+    std::string table_format = "f32";
+    bool no_cache = false;
+};
+
+// --backend, --k, --segment, --gaps, --threshold, --table-size, --table-format, --no-cache.
+void add_algo_options(CLI::App& cmd, AlgoOptions& o);
+gpu::HavsOptions havs_options(const AlgoOptions& o);
+
+struct AlgoResult {
+    Image image;
+    double ms = 0.0;      // wall time of the render (0 for a cached reference)
+    bool cached = false;  // reference taken from the cache
+    nlohmann::json stats;
+    std::vector<uint32_t> fragments, max_held, ordering_errors;  // HAVS diagnostics, SPEC row order
+};
+
+// algo: "reference" or "havs" (emu). Throws InputError for an algorithm or backend that has not landed.
+AlgoResult run_algorithm(const Scene& scene, const std::string& algo, const AlgoOptions& o);
+
+// Throws InputError for an algorithm that is unknown or has not landed (before any work is done).
+void run_algorithm_check(const std::string& algo);
+
+// Splits "a,b,c" (empty items dropped).
+std::vector<std::string> split_list(const std::string& s);
+
+}  // namespace uvr::cli

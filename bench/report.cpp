@@ -1,0 +1,101 @@
+#include "bench/report.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "reference/error_measures.h"
+#include "reference/io_util.h"
+
+namespace uvr::cli {
+
+std::string html_escape(const std::string& s)
+{
+    std::string o;
+    for (char c : s) {
+        switch (c) {
+        case '&': o += "&amp;"; break;
+        case '<': o += "&lt;"; break;
+        case '>': o += "&gt;"; break;
+        case '"': o += "&quot;"; break;
+        default: o += c;
+        }
+    }
+    return o;
+}
+
+std::string heat_legend_html()
+{
+    std::string stops;
+    for (int i = 0; i <= 8; ++i) {
+        unsigned char c[3];
+        inferno(i / 8.0, c);
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%s#%02x%02x%02x %d%%", i ? ", " : "", c[0], c[1], c[2], i * 100 / 8);
+        stops += buf;
+    }
+    std::string html = "<div class=\"legend\"><div class=\"bar\" style=\"background: linear-gradient(to right, " +
+                       stops + ")\"></div><div class=\"ticks\">";
+    const int decades = int(std::lround(std::log10(kHeatMax / kHeatMin)));
+    for (int d = 0; d <= decades; ++d) {
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "<span style=\"left:%.2f%%\">1e%d</span>", 100.0 * d / decades,
+                      int(std::lround(std::log10(kHeatMin))) + d);
+        html += buf;
+    }
+    return html + "</div><div class=\"caption\">largest channel error per pixel (log scale; black: none)</div></div>";
+}
+
+namespace {
+
+std::string number(const nlohmann::json& v, const char* fmt)
+{
+    if (v.is_null()) return "&infin;";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, fmt, v.get<double>());
+    return buf;
+}
+
+}  // namespace
+
+void write_compare_page(const std::string& dir, const nlohmann::json& m)
+{
+    std::string h = R"(<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>uvr compare: )" +
+                    html_escape(m["mesh"].get<std::string>()) + R"(</title>
+<style>
+body { font-family: sans-serif; margin: 1.5em; background: #fafafa; color: #222; }
+table { border-collapse: collapse; }
+th, td { padding: 0.4em 0.8em; border-bottom: 1px solid #ddd; text-align: right; vertical-align: middle; }
+th:first-child, td:first-child { text-align: left; }
+img { image-rendering: pixelated; width: 256px; background: #000; }
+.legend { width: 420px; margin: 1em 0 2em 0; }
+.legend .bar { height: 14px; border: 1px solid #888; }
+.legend .ticks { position: relative; height: 1.2em; font-size: 80%; }
+.legend .ticks span { position: absolute; transform: translateX(-50%); }
+.legend .caption { font-size: 85%; color: #555; }
+</style></head><body>
+)";
+    h += "<h1>uvr compare</h1>\n<p>" + html_escape(m["mesh"].get<std::string>()) + ", field <b>" +
+         html_escape(m["field"].get<std::string>()) + "</b>, " + std::to_string(m["width"].get<int>()) + " &times; " +
+         std::to_string(m["height"].get<int>()) + " pixels. Errors are measured against the reference over every "
+         "pixel and the four premultiplied channels (SPEC &sect;4); &ldquo;visible&rdquo; is the fraction of pixels "
+         "whose largest channel error exceeds 1/255.</p>\n";
+    h += heat_legend_html() + "\n<table>\n<tr><th>algorithm</th><th>image</th><th>error</th><th>RMSE</th>"
+                              "<th>max</th><th>PSNR (dB)</th><th>visible</th><th>time (ms)</th></tr>\n";
+    for (const auto& r : m["results"]) {
+        const std::string label = r["label"].get<std::string>();
+        h += "<tr><td>" + html_escape(label) + "</td><td><img src=\"" + html_escape(r["image"].get<std::string>()) +
+             "\" alt=\"" + html_escape(label) + "\"></td><td>";
+        if (r.contains("error_map"))
+            h += "<img src=\"" + html_escape(r["error_map"].get<std::string>()) + "\" alt=\"error of " +
+                 html_escape(label) + "\">";
+        h += "</td><td>" + number(r["rmse"], "%.3g") + "</td><td>" + number(r["max_abs"], "%.3g") + "</td><td>" +
+             number(r["psnr"], "%.1f") + "</td><td>" + number(r["visible_fraction"], "%.4f") + "</td><td>" +
+             (r["cached"].get<bool>() ? std::string("cached") : number(r["ms"], "%.0f")) + "</td></tr>\n";
+    }
+    h += "</table>\n<p>Numbers: <a href=\"metrics.json\">metrics.json</a>. Images: <code>.png</code> composited over "
+         "black; <code>.npy</code> float32 premultiplied RGBA beside them.</p>\n</body></html>\n";
+    write_file_atomically(dir + "/index.html", h);
+}
+
+}  // namespace uvr::cli

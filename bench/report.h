@@ -1,0 +1,20 @@
+// The HTML page of a report: a self-contained file next to its images, opened from the file system, no server, no
+// script needed to see the pictures and numbers.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace uvr::cli {
+
+// Writes DIR/index.html for a compare report described by `metrics` (the content of metrics.json).
+void write_compare_page(const std::string& dir, const nlohmann::json& metrics);
+
+// The inferno legend of the error heat maps as an inline CSS gradient with its logarithmic ticks.
+std::string heat_legend_html();
+
+// Escapes &, <, >, " for HTML text and attributes.
+std::string html_escape(const std::string& s);
+
+}  // namespace uvr::cli

@@ -1,0 +1,37 @@
+// SPEC §4's error measures of an image against the reference image of the same camera, and the error heat map.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "reference/image.h"
+
+namespace uvr {
+
+// Over all W x H pixels and the four premultiplied channels.
+struct ErrorMeasures {
+    double rmse = 0.0;
+    double max_abs = 0.0;
+    double psnr = 0.0;              // 20 log10(1 / rmse); +inf for identical images (JSON: null)
+    double visible_fraction = 0.0;  // pixels whose largest channel error exceeds 1/255
+};
+
+// Throws InputError when the sizes differ.
+ErrorMeasures measure_errors(const Image& image, const Image& reference);
+
+// The largest channel error of each pixel, row 0 at the top.
+std::vector<float> pixel_errors(const Image& image, const Image& reference);
+
+// The heat-map scale: errors are shown on a logarithmic axis from kHeatMin (1e-6, below which float32 images of
+// values near 1 cannot differ meaningfully) to kHeatMax (1, the largest possible difference).
+inline constexpr double kHeatMin = 1e-6;
+inline constexpr double kHeatMax = 1.0;
+
+// RGB8 heat map of per-pixel errors with the perceptual "inferno" colour scale (black = at most kHeatMin, pale
+// yellow = kHeatMax); zero-error pixels are black.
+std::vector<unsigned char> error_heat_map(const std::vector<float>& errors);
+
+// The colour of a value in [0, 1] on the inferno scale, for legends.
+void inferno(double t, unsigned char rgb[3]);
+
+}  // namespace uvr
