@@ -10,10 +10,10 @@
 
 namespace uvr::cli {
 
-void add_algo_options(CLI::App& cmd, AlgoOptions& o)
+void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
 {
     cmd.add_option("--backend", o.backend, "emu | gl")->capture_default_str();
-    cmd.add_option("--k", o.k, "HAVS: k-buffer entries")->capture_default_str();
+    if (with_k) cmd.add_option("--k", o.k, "HAVS: k-buffer entries")->capture_default_str();
     cmd.add_option("--segment", o.segment, "HAVS: table | exact (emulation only)")->capture_default_str();
     cmd.add_option("--gaps", o.gaps, "HAVS: exact | maxgap (VTK's heuristic)")->capture_default_str();
     cmd.add_option("--threshold", o.threshold, "Early-termination opacity (HAVS 0.99; 1 switches it off)");

@@ -24,8 +24,9 @@ struct AlgoOptions {
     bool no_cache = false;
 };
 
-// --backend, --k, --segment, --gaps, --threshold, --table-size, --table-format, --no-cache.
-void add_algo_options(CLI::App& cmd, AlgoOptions& o);
+// --backend, --k (unless with_k is false: sweep takes a list), --segment, --gaps, --threshold, --table-size,
+// --table-format, --no-cache.
+void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k = true);
 gpu::HavsOptions havs_options(const AlgoOptions& o);
 
 struct AlgoResult {

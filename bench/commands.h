@@ -14,7 +14,6 @@ void register_render(CLI::App& app);
 void register_bench(CLI::App& app);
 void register_export(CLI::App& app);
 void register_compare(CLI::App& app);
-// Commands whose algorithms are still being built: they parse their options and say clearly what is missing.
-void register_pending(CLI::App& app);
+void register_sweep(CLI::App& app);
 
 }  // namespace uvr::cli

@@ -19,7 +19,7 @@ int main(int argc, char** argv)
     register_bench(app);
     register_export(app);
     register_compare(app);
-    register_pending(app);
+    register_sweep(app);
     register_demo(app);
     try {
         app.parse(argc, argv);

@@ -98,4 +98,41 @@ img { image-rendering: pixelated; width: 256px; background: #000; }
     write_file_atomically(dir + "/index.html", h);
 }
 
+void write_sweep_page(const std::string& dir, const nlohmann::json& w, bool plots)
+{
+    std::string h = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>uvr sweep: " +
+                    html_escape(w["mesh"].get<std::string>()) +
+                    "</title>\n<style>body { font-family: sans-serif; margin: 1.5em; background: #fafafa; color: #222; }"
+                    " table { border-collapse: collapse; } th, td { padding: 0.4em 0.8em; border-bottom: 1px solid "
+                    "#ddd; text-align: right; } img { max-width: 48%; }</style></head><body>\n";
+    h += "<h1>uvr sweep: HAVS error against k</h1>\n<p>" + html_escape(w["mesh"].get<std::string>()) + ", field <b>" +
+         html_escape(w["field"].get<std::string>()) + "</b>, " + std::to_string(w["width"].get<int>()) + " &times; " +
+         std::to_string(w["height"].get<int>()) + ". <i>Sorting error</i>: HAVS with exact segment integration "
+         "against the reference. <i>Total</i>: HAVS with the pre-integrated table. <i>Table error</i>: table against "
+         "exact at the largest k, where sorting no longer errs.</p>\n";
+    if (plots)
+        h += "<p><img src=\"error_vs_k.png\" alt=\"error against k\"> <img src=\"ordering_vs_k.png\" "
+             "alt=\"ordering errors against k\"></p>\n";
+    else
+        h += "<p>(Plots not drawn: python3-matplotlib is missing.)</p>\n";
+    h += "<table><tr><th>view</th><th>azimuth</th><th>elevation</th><th>smallest k, no visible sorting error</th>"
+         "<th>smallest k, no visible error in total</th><th>table error RMSE</th></tr>\n";
+    for (const auto& v : w["views"]) {
+        char buf[512];
+        std::snprintf(buf, sizeof buf, "<tr><td>%d</td><td>%g</td><td>%g</td><td>%s</td><td>%s</td><td>%.3g</td></tr>\n",
+                      v["view"].get<int>(), v["azimuth"].get<double>(), v["elevation"].get<double>(),
+                      v["smallest_k_without_visible_error_exact"].is_null()
+                          ? "none in the sweep"
+                          : std::to_string(v["smallest_k_without_visible_error_exact"].get<int>()).c_str(),
+                      v["smallest_k_without_visible_error_table"].is_null()
+                          ? "none in the sweep"
+                          : std::to_string(v["smallest_k_without_visible_error_table"].get<int>()).c_str(),
+                      v["table_floor_rmse"].get<double>());
+        h += buf;
+    }
+    h += "</table>\n<p>Every number: <a href=\"sweep.csv\">sweep.csv</a>, <a href=\"sweep.json\">sweep.json</a>."
+         "</p>\n</body></html>\n";
+    write_file_atomically(dir + "/index.html", h);
+}
+
 }  // namespace uvr::cli

@@ -11,6 +11,9 @@ namespace uvr::cli {
 // Writes DIR/index.html for a compare report described by `metrics` (the content of metrics.json).
 void write_compare_page(const std::string& dir, const nlohmann::json& metrics);
 
+// Writes DIR/index.html for a sweep report (the content of sweep.json); `plots` says whether the PNG plots exist.
+void write_sweep_page(const std::string& dir, const nlohmann::json& sweep, bool plots);
+
 // The inferno legend of the error heat maps as an inline CSS gradient with its logarithmic ticks.
 std::string heat_legend_html();
 

@@ -123,7 +123,7 @@ TEST_CASE("bad input makes uvr exit non-zero with a message naming the file, nev
     }
     SECTION("a command whose algorithm has not landed says so")
     {
-        const CommandResult r = run_uvr("sweep builtin:torus-small --k 1,2 --report /tmp/x");
+        const CommandResult r = run_uvr("render builtin:torus-small --algo vicp --out /tmp/uvr-never-written.npy");
         CHECK(r.exit_code == 1);
         CHECK_THAT(r.err, Catch::Contains("not available yet"));
     }

@@ -1,0 +1,66 @@
+#!/usr/bin/python3
+"""Plots of a `uvr sweep` report (DIR/sweep.json) with matplotlib (Debian's python3-matplotlib):
+error against k per view and their mean, split into the sorting error (exact segments) and the total (table), and
+the fraction of pixels with ordering errors against k. Writes DIR/error_vs_k.png and DIR/ordering_vs_k.png."""
+import json
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main():
+    d = sys.argv[1]
+    with open(f"{d}/sweep.json") as f:
+        sweep = json.load(f)
+    rows = sweep["rows"]
+    ks = sorted({r["k"] for r in rows})
+    views = sorted({r["view"] for r in rows})
+
+    def series(view, mode, key):
+        pts = sorted((r["k"], r[key]) for r in rows if r["view"] == view and r["mode"] == mode)
+        return [p[0] for p in pts], [p[1] for p in pts]
+
+    fig, ax = plt.subplots(figsize=(7, 4.5), dpi=110)
+    for mode, style, name in (("exact", "-", "sorting (exact segments)"), ("table", "--", "total (table)")):
+        for v in views:
+            x, y = series(v, mode, "rmse")
+            ax.plot(x, y, style, color="0.75", linewidth=0.8)
+        mean = [sum(r["rmse"] for r in rows if r["k"] == k and r["mode"] == mode) /
+                max(1, sum(1 for r in rows if r["k"] == k and r["mode"] == mode)) for k in ks]
+        ax.plot(ks, mean, style, marker="o", linewidth=2, label=f"{name}, mean of {len(views)} views")
+    if "table_floor_rmse" in sweep:
+        ax.axhline(sweep["table_floor_rmse"], color="tab:red", linewidth=1, linestyle=":",
+                   label="table error (table vs exact at the largest k)")
+    ax.set_xscale("log", base=2)
+    ax.set_yscale("log")
+    ax.set_xticks(ks)
+    ax.set_xticklabels([str(k) for k in ks])
+    ax.set_xlabel("k (k-buffer entries)")
+    ax.set_ylabel("RMSE against the reference")
+    ax.set_title(f"HAVS error against k: {sweep['mesh']}")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(f"{d}/error_vs_k.png")
+
+    fig, ax = plt.subplots(figsize=(7, 4.5), dpi=110)
+    for v in views:
+        x, y = series(v, "exact", "ordering_error_pixel_fraction")
+        ax.plot(x, y, marker="o", label=f"view {v}")
+    ax.set_xscale("log", base=2)
+    ax.set_xticks(ks)
+    ax.set_xticklabels([str(k) for k in ks])
+    ax.set_xlabel("k (k-buffer entries)")
+    ax.set_ylabel("fraction of pixels with ordering errors")
+    ax.set_title(f"HAVS ordering errors against k: {sweep['mesh']}")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(f"{d}/ordering_vs_k.png")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,308 @@
+#include "gpu/gl_stage_harness.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "gpu/gl_havs_fragment.h"
+#include "reference/error.h"
+
+namespace uvr::gpu {
+
+namespace {
+
+// What every output attachment is cleared to: a value no case produces, so a pixel whose outputs all still hold it
+// was discarded.
+constexpr float kSentinel = -1.0e30f;
+
+bool is_sentinel(const float* v)
+{
+    for (int c = 0; c < 4; ++c)
+        if (std::memcmp(&v[c], &kSentinel, sizeof(float)) != 0) return false;
+    return true;
+}
+
+// The GL objects of one pass, deleted when it ends (also when a check throws).
+struct PassObjects {
+    const GlFunctions& gl;
+    std::vector<GLuint> textures, buffers;
+    GLuint fbo = 0;
+    explicit PassObjects(const GlFunctions& g) : gl(g) {}
+    ~PassObjects()
+    {
+        if (!textures.empty()) gl.DeleteTextures(GLsizei(textures.size()), textures.data());
+        if (!buffers.empty()) gl.DeleteBuffers(GLsizei(buffers.size()), buffers.data());
+        if (fbo) {
+            gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+            gl.DeleteFramebuffers(1, &fbo);
+        }
+    }
+    GLuint texture(GLenum target, int unit)
+    {
+        GLuint t = 0;
+        gl.GenTextures(1, &t);
+        textures.push_back(t);
+        gl.ActiveTexture(GLenum(GL_TEXTURE0 + unit));
+        gl.BindTexture(target, t);
+        // No mipmaps: without GL_NEAREST as the minification filter the texture would be incomplete.
+        gl.TexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        gl.TexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        return t;
+    }
+    // An RGBA32F input texture holding `texels` (width x height, 4 floats each) on texture unit `unit`.
+    void input_2d(int unit, const std::vector<float>& texels, int width, int height)
+    {
+        texture(GL_TEXTURE_2D, unit);
+        gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, texels.data());
+    }
+    GLuint storage(int binding, const void* data, std::size_t bytes)
+    {
+        GLuint b = 0;
+        gl.GenBuffers(1, &b);
+        buffers.push_back(b);
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, b);
+        gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(bytes), data, GL_STATIC_DRAW);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(binding), b);
+        return b;
+    }
+    // An FBO of colour attachments of the given formats (RGBA32F or RGBA32UI), drawn into in order, cleared to the
+    // sentinel (all bits set for the integer ones).
+    void targets(const GlContext& ctx, const std::vector<GLenum>& formats, int width, int height)
+    {
+        gl.GenFramebuffers(1, &fbo);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
+        std::vector<GLenum> draw;
+        for (std::size_t i = 0; i < formats.size(); ++i) {
+            const GLuint t = texture(GL_TEXTURE_2D, 15);
+            const bool integer = formats[i] == GL_RGBA32UI;
+            gl.TexImage2D(GL_TEXTURE_2D, 0, GLint(formats[i]), width, height, 0, integer ? GL_RGBA_INTEGER : GL_RGBA,
+                          integer ? GL_UNSIGNED_INT : GL_FLOAT, nullptr);
+            gl.FramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + i), GL_TEXTURE_2D, t, 0);
+            draw.push_back(GLenum(GL_COLOR_ATTACHMENT0 + i));
+        }
+        gl.DrawBuffers(GLsizei(draw.size()), draw.data());
+        check_framebuffer(ctx, "the stage harness's render targets");
+        const float clear[4] = {kSentinel, kSentinel, kSentinel, kSentinel};
+        const GLuint clear_u[4] = {~0u, ~0u, ~0u, ~0u};
+        for (std::size_t i = 0; i < formats.size(); ++i) {
+            if (formats[i] == GL_RGBA32UI)
+                gl.ClearBufferuiv(GL_COLOR, GLint(i), clear_u);
+            else
+                gl.ClearBufferfv(GL_COLOR, GLint(i), clear);
+        }
+        gl.Viewport(0, 0, width, height);
+    }
+    std::vector<uint32_t> read_uint(int attachment, int width, int height)
+    {
+        std::vector<uint32_t> out(std::size_t(width) * std::size_t(height) * 4);
+        gl.ReadBuffer(GLenum(GL_COLOR_ATTACHMENT0 + attachment));
+        gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+        gl.ReadPixels(0, 0, width, height, GL_RGBA_INTEGER, GL_UNSIGNED_INT, out.data());
+        return out;
+    }
+    std::vector<float> read(int attachment, int width, int height)
+    {
+        std::vector<float> out(std::size_t(width) * std::size_t(height) * 4);
+        gl.ReadBuffer(GLenum(GL_COLOR_ATTACHMENT0 + attachment));
+        gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+        gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, out.data());
+        return out;
+    }
+};
+
+}  // namespace
+
+GlHavsFragmentHarness::GlHavsFragmentHarness(GlContext& ctx) : ctx_(ctx)
+{
+    ctx_.make_current();
+    if (!ctx_.info().has_extension("GL_ARB_gpu_shader_int64"))
+        throw InputError("", "the HAVS fragment stage needs GL_ARB_gpu_shader_int64, which " + ctx_.info().renderer +
+                                 " lacks");
+    ctx_.gl().GenVertexArrays(1, &vao_);
+}
+
+GlHavsFragmentHarness::~GlHavsFragmentHarness()
+{
+    const GlFunctions& gl = ctx_.gl();
+    if (table_texture_) gl.DeleteTextures(1, &table_texture_);
+    programs_.clear();
+    if (vao_) gl.DeleteVertexArrays(1, &vao_);
+}
+
+int GlHavsFragmentHarness::max_k() const { return (ctx_.info().max_draw_buffers - 2) * 2; }
+
+const GlProgram& GlHavsFragmentHarness::program(int k, int mode)
+{
+    auto& p = programs_[{k, mode}];
+    if (!p) {
+        GlShaderSource vs{{"fullscreen.vert"}, {}, {}};
+        GlShaderSource fs{{"havs_fragment.frag", "havs_fragment_harness.frag"},
+                          {{"HAVS_K", std::to_string(std::max(k, 1))}},
+                          {"GL_ARB_gpu_shader_int64"}};
+        if (k == 0) {
+            fs.defines.push_back({"HARNESS_ENTRY", "1"});
+        } else {
+            fs.defines.push_back({"HARNESS_KBUFFER", "1"});
+            if (mode == int(HarnessShade::table)) fs.defines.push_back({"HARNESS_SHADE_TABLE", "1"});
+        }
+        p = std::make_unique<GlProgram>(ctx_, vs, fs);
+    }
+    return *p;
+}
+
+void GlHavsFragmentHarness::upload_table(const PreintegrationTable& table)
+{
+    const GlFunctions& gl = ctx_.gl();
+    if (!table_texture_) gl.GenTextures(1, &table_texture_);
+    gl.ActiveTexture(GL_TEXTURE4);
+    gl.BindTexture(GL_TEXTURE_3D, table_texture_);
+    const int n = table.scalar_resolution(), l = table.length_resolution();
+    GLenum internal = GL_RGBA32F, type = GL_FLOAT;
+    if (table.config().format == TexelFormat::u16) internal = GL_RGBA16, type = GL_UNSIGNED_SHORT;
+    if (table.config().format == TexelFormat::u8) internal = GL_RGBA8, type = GL_UNSIGNED_BYTE;
+    gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    gl.TexImage3D(GL_TEXTURE_3D, 0, GLint(internal), n, n, l, 0, GL_RGBA, type, table.data());
+    for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) gl.TexParameteri(GL_TEXTURE_3D, p, GL_LINEAR);
+    for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+        gl.TexParameteri(GL_TEXTURE_3D, p, GL_CLAMP_TO_EDGE);
+    ctx_.check_error("uploading the pre-integration table");
+}
+
+KBufferResults GlHavsFragmentHarness::run_kbuffer(const HavsFrameConstants& fc, const KBufferCases& cases,
+                                                  HarnessShade shade, const PreintegrationTable* table)
+{
+    const int k = cases.k;
+    if (k < 1 || k > max_k())
+        throw InputError("", "the GL k-buffer harness takes k from 1 to " + std::to_string(max_k()) + ", not " +
+                                 std::to_string(k));
+    const std::size_t n = cases.size();
+    if (cases.entries.size() != n * std::size_t(k) || cases.framebuffer.size() != n ||
+        (shade == HarnessShade::per_case && cases.shade.size() != n))
+        throw std::invalid_argument("run_kbuffer: inconsistent case arrays");
+    if (shade == HarnessShade::table && !table) throw std::invalid_argument("run_kbuffer: no table");
+    ctx_.make_current();
+    const GlFunctions& gl = ctx_.gl();
+    const GlProgram& prog = program(k, int(shade));
+    gl.UseProgram(prog.id());
+    set_havs_frame_uniforms(ctx_, prog, fc);
+    gl.Uniform1i(prog.uniform("harness_width"), kHarnessWidth);
+    gl.Uniform1i(prog.uniform("harness_base"), 0);
+    if (shade == HarnessShade::table) upload_table(*table);
+    gl.BindVertexArray(vao_);
+
+    const int layers = (k + 1) / 2;
+    KBufferResults res;
+    res.written.resize(n);
+    res.entries.resize(n * std::size_t(k));
+    res.framebuffer.resize(n);
+    res.shade_args.resize(n);
+    const std::size_t chunk = std::size_t(kHarnessWidth) * kHarnessRows;
+    for (std::size_t base = 0; base < n; base += chunk) {
+        const std::size_t m = std::min(chunk, n - base);
+        const int w = kHarnessWidth, h = int((m + std::size_t(w) - 1) / std::size_t(w));
+        const std::size_t px = std::size_t(w) * std::size_t(h);
+        // Inputs; the padding pixels past the last case get empty entries and a transparent framebuffer.
+        std::vector<float> entries(px * std::size_t(layers) * 4, 0.0f), fbuf(px * 4, 0.0f), inc(px * 4, 0.0f),
+            col(px * 4, 0.0f);
+        for (std::size_t i = 0; i < px; ++i) {
+            for (int e = 0; e < 2 * layers; ++e) {
+                const KEntry v = (i < m && e < k) ? cases.entries[(base + i) * std::size_t(k) + std::size_t(e)]
+                                                  : kEmptyEntry;
+                float* t = &entries[(std::size_t(e / 2) * px + i) * 4 + std::size_t(e % 2) * 2];
+                t[0] = v.x;
+                t[1] = v.y;
+            }
+            if (i >= m) continue;
+            const glm::vec4& f = cases.framebuffer[base + i];
+            std::memcpy(&fbuf[i * 4], &f[0], sizeof(float) * 4);
+            inc[i * 4] = cases.incoming[base + i].x;
+            inc[i * 4 + 1] = cases.incoming[base + i].y;
+            if (shade == HarnessShade::per_case) std::memcpy(&col[i * 4], &cases.shade[base + i][0], sizeof(float) * 4);
+        }
+        PassObjects pass(gl);
+        pass.texture(GL_TEXTURE_2D_ARRAY, 0);
+        gl.TexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA32F, w, h, layers, 0, GL_RGBA, GL_FLOAT, entries.data());
+        pass.input_2d(1, fbuf, w, h);
+        pass.input_2d(2, inc, w, h);
+        pass.input_2d(3, col, w, h);
+        pass.targets(ctx_, std::vector<GLenum>(std::size_t(2 + layers), GL_RGBA32F), w, h);
+        gl.DrawArrays(GL_TRIANGLES, 0, 3);
+        ctx_.check_error("the k-buffer harness pass");
+        const std::vector<float> out_fb = pass.read(0, w, h), out_args = pass.read(1, w, h);
+        std::vector<std::vector<float>> out_entries;
+        for (int j = 0; j < layers; ++j) out_entries.push_back(pass.read(2 + j, w, h));
+        ctx_.check_error("reading the k-buffer harness's targets back");
+        for (std::size_t i = 0; i < m; ++i) {
+            bool discarded = is_sentinel(&out_fb[i * 4]) && is_sentinel(&out_args[i * 4]);
+            for (int j = 0; j < layers; ++j) discarded = discarded && is_sentinel(&out_entries[std::size_t(j)][i * 4]);
+            const std::size_t c = base + i;
+            res.written[c] = discarded ? 0 : 1;
+            if (discarded) {
+                res.framebuffer[c] = cases.framebuffer[c];
+                res.shade_args[c] = glm::vec4(-2.0f);
+                for (int e = 0; e < k; ++e) res.entries[c * std::size_t(k) + std::size_t(e)] =
+                    cases.entries[c * std::size_t(k) + std::size_t(e)];
+                continue;
+            }
+            std::memcpy(&res.framebuffer[c][0], &out_fb[i * 4], sizeof(float) * 4);
+            std::memcpy(&res.shade_args[c][0], &out_args[i * 4], sizeof(float) * 4);
+            for (int e = 0; e < k; ++e) {
+                const float* t = &out_entries[std::size_t(e / 2)][i * 4 + std::size_t(e % 2) * 2];
+                res.entries[c * std::size_t(k) + std::size_t(e)] = KEntry{t[0], t[1]};
+            }
+        }
+    }
+    return res;
+}
+
+std::vector<KEntry> GlHavsFragmentHarness::run_entry(const HavsFrameConstants& fc, const std::vector<HavsFace>& faces,
+                                                     const std::vector<glm::ivec2>& pixels,
+                                                     std::vector<glm::dvec2>* values)
+{
+    if (faces.size() != pixels.size()) throw std::invalid_argument("run_entry: one pixel per face");
+    if (values) values->assign(faces.size(), glm::dvec2(0.0));
+    ctx_.make_current();
+    const GlFunctions& gl = ctx_.gl();
+    const GlProgram& prog = program(0, 0);
+    gl.UseProgram(prog.id());
+    set_havs_frame_uniforms(ctx_, prog, fc);
+    gl.Uniform1i(prog.uniform("harness_width"), kHarnessWidth);
+    gl.Uniform1i(prog.uniform("harness_base"), 0);
+    gl.BindVertexArray(vao_);
+    const std::size_t n = faces.size();
+    std::vector<KEntry> out(n);
+    const std::size_t chunk = std::size_t(kHarnessWidth) * kHarnessRows;
+    for (std::size_t base = 0; base < n; base += chunk) {
+        const std::size_t m = std::min(chunk, n - base);
+        const int w = kHarnessWidth, h = int((m + std::size_t(w) - 1) / std::size_t(w));
+        const std::size_t px = std::size_t(w) * std::size_t(h);
+        std::vector<GlHavsFace> packed(px, pack_havs_face(faces[base]));  // padding repeats the first case
+        std::vector<glm::ivec2> pix(px, pixels[base]);
+        for (std::size_t i = 0; i < m; ++i) {
+            packed[i] = pack_havs_face(faces[base + i]);
+            pix[i] = pixels[base + i];
+        }
+        PassObjects pass(gl);
+        pass.storage(0, packed.data(), packed.size() * sizeof(GlHavsFace));
+        pass.storage(1, pix.data(), pix.size() * sizeof(glm::ivec2));
+        pass.targets(ctx_, {GL_RGBA32F, GL_RGBA32UI}, w, h);
+        gl.DrawArrays(GL_TRIANGLES, 0, 3);
+        ctx_.check_error("the fragment-entry harness pass");
+        const std::vector<float> res = pass.read(0, w, h);
+        const std::vector<uint32_t> dbl = values ? pass.read_uint(1, w, h) : std::vector<uint32_t>();
+        ctx_.check_error("reading the fragment-entry harness's targets back");
+        for (std::size_t i = 0; i < m; ++i) {
+            out[base + i] = KEntry{res[i * 4], res[i * 4 + 1]};
+            if (!values) continue;
+            // unpackDouble2x32 gives (low, high) words.
+            const uint64_t x = uint64_t(dbl[i * 4]) | (uint64_t(dbl[i * 4 + 1]) << 32);
+            const uint64_t d = uint64_t(dbl[i * 4 + 2]) | (uint64_t(dbl[i * 4 + 3]) << 32);
+            (*values)[base + i] = glm::dvec2(std::bit_cast<double>(x), std::bit_cast<double>(d));
+        }
+    }
+    return out;
+}
+
+}  // namespace uvr::gpu

@@ -1,0 +1,150 @@
+// HAVS's fragment stage (seed 000, Appendix II): the GLSL twin of gpu/havs_fragment.cpp, operation for operation.
+// Read that file's header first; the comments here only say where GLSL needs care.
+//
+// This file holds the stage's functions, no main(): a pass appends its own main (the harness:
+// havs_fragment_harness.frag), which also defines havs_shade(), the segment lookup. The prelude gpu/gl_context.cpp
+// puts in front carries the pass's defines,
+//   HAVS_K          the number of stored entries, 1 .. (draw buffers - 1) * 2 in a real pass,
+// and enables GL_ARB_gpu_shader_int64 (the snapped edge functions are 64-bit integers, as in the emulation).
+//
+// Bit-faithfulness. Every arithmetic result is `precise`: without it a compiler may fuse a multiply and an add,
+// reassociate, or rewrite `a - b < 0` as `a < b`. Measured on llvmpipe (Mesa 22.3.6): without `precise`, 13% of the
+// test's double values differ from the emulation's; the float k-buffer part happens to compile unfused there
+// (docs/gl-backend.md). Comparisons whose operands matter are made on precise values. The fragment values are
+// computed in double (GLSL fp64: llvmpipe runs them as IEEE double operations), the k-buffer program in float, as
+// the emulation does. llvmpipe runs shaders with denormals flushed (DAZ and FTZ), the emulation does not.
+
+// ---- Per-frame constants (HavsFrameConstants) ----
+uniform double havs_two_over_width, havs_two_over_height;  // gl_FragCoord -> NDC
+uniform double havs_origin_x, havs_origin_y;                // orthographic ray origins; 0 under perspective
+uniform float havs_threshold;                               // the opacity kill
+uniform float havs_length_scale, havs_length_bias;          // the seed's sz.z and sz.w
+uniform float havs_max_gap;                                 // segments longer than this contribute nothing (0: none)
+
+// ---- Per-face constants (HavsFace), flat, from a shader storage buffer ----
+// Scalar arrays only, so that the std430 layout is plain: 200 bytes a face (GlHavsFace, gpu/gl_havs_fragment.h).
+struct HavsFace {
+    double q[9];      // eye-space positions of the three vertices, x y z each
+    double v[6];      // window coordinates of the vertices, x y each
+    double inv_w[3];  // 1 / clip w
+    double s[3];      // normalized scalars
+    int fx[3];        // the rasterizer's snapped vertices (24.8 fixed point)
+    int fy[3];
+    float side;       // -1: an exit face (exact gaps)
+    float pad;
+};
+layout(std430, binding = 0) readonly buffer HavsFaces { HavsFace havs_faces[]; };
+
+// kOutsideTolerance of gpu/havs_fragment.h.
+const double havs_outside_tolerance = 0.1lf;
+
+// The snapped triangle's edge function from vertex a to vertex b at the fixed-point pixel centre (cx, cy): exact in
+// 64-bit integers, as the emulation's lambda `edge`.
+int64_t havs_snapped_edge(HavsFace f, int a, int b, int64_t cx, int64_t cy)
+{
+    return (int64_t(f.fx[b]) - int64_t(f.fx[a])) * (cy - int64_t(f.fy[a])) -
+           (int64_t(f.fy[b]) - int64_t(f.fy[a])) * (cx - int64_t(f.fx[a]));
+}
+
+// The fragment values at window pixel `pix` (gl_FragCoord.xy = pix + 0.5) in double, before the entry's rounding:
+// (side * (1 + s), distance). The stage harness reads them too, since rounding to float hides most double-level
+// differences.
+dvec2 havs_fragment_values(HavsFace f, ivec2 pix)
+{
+    precise double fx = double(pix.x) + 0.5lf;
+    precise double fy = double(pix.y) + 0.5lf;
+    precise double e0 = (f.v[4] - f.v[2]) * (fy - f.v[3]) - (f.v[5] - f.v[3]) * (fx - f.v[2]);
+    precise double e1 = (f.v[0] - f.v[4]) * (fy - f.v[5]) - (f.v[1] - f.v[5]) * (fx - f.v[4]);
+    precise double e2 = (f.v[2] - f.v[0]) * (fy - f.v[1]) - (f.v[3] - f.v[1]) * (fx - f.v[0]);
+    precise double sum = (e0 + e1) + e2;
+    precise double lim = -havs_outside_tolerance * sum;
+    precise bool positive = sum > 0.0lf;
+    precise bool inside = positive ? (e0 >= lim && e1 >= lim && e2 >= lim) : (e0 <= lim && e1 <= lim && e2 <= lim);
+    if (!inside) {
+        // Covered only because of snapping: the snapped triangle's exact edge functions.
+        int64_t cx = int64_t(pix.x) * int64_t(256), cy = int64_t(pix.y) * int64_t(256);
+        e0 = double(havs_snapped_edge(f, 1, 2, cx, cy));
+        e1 = double(havs_snapped_edge(f, 2, 0, cx, cy));
+        e2 = double(havs_snapped_edge(f, 0, 1, cx, cy));
+    }
+    precise double w0 = e0 * f.inv_w[0];
+    precise double w1 = e1 * f.inv_w[1];
+    precise double w2 = e2 * f.inv_w[2];
+    precise double inv_sum = 1.0lf / ((w0 + w1) + w2);
+    precise double l0 = w0 * inv_sum;
+    precise double l1 = w1 * inv_sum;
+    precise double l2 = w2 * inv_sum;
+    precise double px = (l0 * f.q[0] + l1 * f.q[3]) + l2 * f.q[6];
+    precise double py = (l0 * f.q[1] + l1 * f.q[4]) + l2 * f.q[7];
+    precise double pz = (l0 * f.q[2] + l1 * f.q[5]) + l2 * f.q[8];
+    precise double ndc_x = fx * havs_two_over_width - 1.0lf;
+    precise double ndc_y = fy * havs_two_over_height - 1.0lf;
+    precise double dx = px - ndc_x * havs_origin_x;
+    precise double dy = py - ndc_y * havs_origin_y;
+    precise double distance = sqrt((dx * dx + dy * dy) + pz * pz);
+    precise double s = (l0 * f.s[0] + l1 * f.s[1]) + l2 * f.s[2];
+    precise double x = double(f.side) * (1.0lf + s);
+    return dvec2(x, distance);
+}
+
+// havs_fragment_entry: the incoming fragment's entry as the k-buffer stores it, float32.
+vec2 havs_fragment_entry(HavsFace f, ivec2 pix)
+{
+    dvec2 d = havs_fragment_values(f, pix);
+    return vec2(float(d.x), float(d.y));
+}
+
+// What the segment contributes: each pass defines it (havs_table_lookup below in a real pass; the harness records its
+// arguments and may return a given colour instead).
+vec4 havs_shade(float u_front, float u_back, float t_z, float seg_length);
+
+// The 3D pre-integrated table (gpu/preintegration_table.h), GL_LINEAR, CLAMP_TO_EDGE: texture 4 of the seed.
+layout(binding = 4) uniform sampler3D havs_table;
+vec4 havs_table_lookup(float u_front, float u_back, float t_z)
+{
+    return texture(havs_table, vec3(u_front, u_back, t_z));
+}
+
+// havs_kbuffer: one run of the program on one pixel. a[] holds the k stored entries (x, y) and is overwritten with
+// the k remaining ones; fb is the framebuffer colour, replaced by the composited one. Returns false when the fragment
+// is killed (the caller discards: nothing is written).
+bool havs_kbuffer(vec2 a0, inout vec2 a[HAVS_K], inout vec4 fb)
+{
+    // KIL (threshold - alpha).
+    precise float kill = havs_threshold - fb.a;
+    if (kill < 0.0) return false;
+    // The selection chain: on t < 0 the running minimum stays, otherwise (ties included) the stored entry becomes
+    // the minimum.
+    vec2 r[HAVS_K + 1];
+    r[0] = a0;
+    for (int i = 1; i <= HAVS_K; ++i) {
+        precise float t = r[0].y - a[i - 1].y;
+        if (t < 0.0) {
+            r[i] = a[i - 1];
+        } else {
+            r[i] = r[0];
+            r[0] = a[i - 1];
+        }
+    }
+    // The second smallest among r1..rk.
+    vec2 second = r[1];
+    for (int i = 2; i <= HAVS_K; ++i) {
+        precise float t = second.y - r[i].y;
+        if (!(t < 0.0)) second = r[i];
+    }
+    precise float seg_length = second.y - r[0].y;
+    vec4 c = vec4(0.0);
+    precise bool nullified = r[0].x < 0.0 || isinf(second.y) || (havs_max_gap > 0.0 && seg_length > havs_max_gap);
+    if (!nullified) {
+        precise float t_z = seg_length * havs_length_scale + havs_length_bias;
+        precise float u_front = abs(r[0].x) - 1.0;
+        precise float u_back = abs(second.x) - 1.0;
+        c = havs_shade(u_front, u_back, t_z, seg_length);
+    }
+    // Front to back: fb = c * (1 - fb.a) + fb.
+    precise float one_minus_a = 1.0 - fb.a;
+    precise vec4 composited = c * one_minus_a + fb;
+    fb = composited;
+    for (int i = 1; i <= HAVS_K; ++i) a[i - 1] = r[i];
+    return true;
+}
