@@ -1,4 +1,5 @@
 // The `uvr` program as a user meets it: help, `info --json` on the real data, errors and exit codes.
+#include <algorithm>
 #include <filesystem>
 
 #include <nlohmann/json.hpp>
@@ -158,7 +159,38 @@ TEST_CASE("uvr demo runs with no argument and leaves its images")
     const CommandResult r = run_uvr("demo --out '" + tmp.file("d") + "'");
     INFO(r.err);
     REQUIRE(r.exit_code == 0);
-    CHECK(std::filesystem::exists(tmp.file("d/reference-front.png")));
-    CHECK(std::filesystem::exists(tmp.file("d/reference-oblique.npy")));
-    CHECK(nlohmann::json::parse(uvr::test::file_contents(tmp.file("d/demo.json")))["mesh"]["tetrahedra"] > 50000);
+    CHECK(std::filesystem::exists(tmp.file("d/compare/index.html")));
+    CHECK(std::filesystem::exists(tmp.file("d/compare/havs-emu-k6-error.png")));
+    CHECK(std::filesystem::exists(tmp.file("d/sweep/index.html")));
+    CHECK(std::filesystem::exists(tmp.file("d/sweep/sweep.csv")));
+    CHECK(nlohmann::json::parse(uvr::test::file_contents(tmp.file("d/compare/metrics.json")))["results"].size() == 2);
+}
+
+TEST_CASE("an interrupted sweep resumed from disk gives the same numbers as one uninterrupted")
+{
+    uvr::test::TempDir tmp("sweep");
+    setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
+    const std::string args = "sweep builtin:torus-small --k 1,3,8 --views 2 --size 48x48 --json --report ";
+    const CommandResult whole = run_uvr(args + "'" + tmp.file("a") + "'");
+    INFO(whole.err);
+    REQUIRE(whole.exit_code == 0);
+    // Interrupt: a second sweep whose run files are partly gone (one removed, one truncated as a kill would leave a
+    // temporary file, never a half-written run file).
+    const CommandResult first = run_uvr(args + "'" + tmp.file("b") + "'");
+    REQUIRE(first.exit_code == 0);
+    std::filesystem::remove(tmp.file("b/runs/v1-k3-table.json"));
+    std::filesystem::remove(tmp.file("b/runs/v0-k1-exact.json"));
+    const CommandResult resumed = run_uvr(args + "'" + tmp.file("b") + "'");
+    REQUIRE(resumed.exit_code == 0);
+    auto a = nlohmann::json::parse(whole.out), b = nlohmann::json::parse(resumed.out);
+    CHECK(b["resumed_runs"] == 10);
+    for (auto* j : {&a, &b}) {
+        (*j).erase("resumed_runs");
+        for (auto& r : (*j)["rows"]) r.erase("ms");
+    }
+    CHECK(a == b);
+    // The CSV holds the JSON's numbers.
+    const std::string csv = uvr::test::file_contents(tmp.file("b/sweep.csv"));
+    CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + 2 * 3 * 2);
+    unsetenv("UVR_CACHE_DIR");
 }
