@@ -23,6 +23,20 @@ std::string html_escape(const std::string& s)
     return o;
 }
 
+std::string load_check_script()
+{
+    // Marks the body once the page has loaded: how many images it has and which failed, so a headless browser can
+    // tell a reader's view from a broken page (tests/test_report_browser.cpp). The page needs no script to be read.
+    return "<script>window.addEventListener('load', function () {\n"
+           "  var imgs = Array.prototype.slice.call(document.images);\n"
+           "  var broken = imgs.filter(function (i) { return !(i.complete && i.naturalWidth > 0); })\n"
+           "                   .map(function (i) { return i.getAttribute('src'); });\n"
+           "  document.body.setAttribute('data-images', String(imgs.length));\n"
+           "  document.body.setAttribute('data-broken', broken.join(' '));\n"
+           "  document.body.setAttribute('data-loaded', 'yes');\n"
+           "});</script>\n";
+}
+
 std::string heat_legend_html()
 {
     std::string stops;
@@ -94,7 +108,8 @@ img { image-rendering: pixelated; width: 256px; background: #000; }
              (r["cached"].get<bool>() ? std::string("cached") : number(r["ms"], "%.0f")) + "</td></tr>\n";
     }
     h += "</table>\n<p>Numbers: <a href=\"metrics.json\">metrics.json</a>. Images: <code>.png</code> composited over "
-         "black; <code>.npy</code> float32 premultiplied RGBA beside them.</p>\n</body></html>\n";
+         "black; <code>.npy</code> float32 premultiplied RGBA beside them.</p>\n" + load_check_script() +
+         "</body></html>\n";
     write_file_atomically(dir + "/index.html", h);
 }
 
@@ -131,7 +146,7 @@ void write_sweep_page(const std::string& dir, const nlohmann::json& w, bool plot
         h += buf;
     }
     h += "</table>\n<p>Every number: <a href=\"sweep.csv\">sweep.csv</a>, <a href=\"sweep.json\">sweep.json</a>."
-         "</p>\n</body></html>\n";
+         "</p>\n" + load_check_script() + "</body></html>\n";
     write_file_atomically(dir + "/index.html", h);
 }
 

@@ -14,6 +14,9 @@ void write_compare_page(const std::string& dir, const nlohmann::json& metrics);
 // Writes DIR/index.html for a sweep report (the content of sweep.json); `plots` says whether the PNG plots exist.
 void write_sweep_page(const std::string& dir, const nlohmann::json& sweep, bool plots);
 
+// A small script that marks <body> with data-loaded, data-images and data-broken once the page has loaded.
+std::string load_check_script();
+
 // The inferno legend of the error heat maps as an inline CSS gradient with its logarithmic ticks.
 std::string heat_legend_html();
 
