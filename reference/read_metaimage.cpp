@@ -21,32 +21,6 @@ namespace uvr {
 
 namespace {
 
-template <class T>
-void decode_as(std::string_view bytes, bool big_endian, std::vector<float>& out)
-{
-    out.resize(bytes.size() / sizeof(T));
-    for (std::size_t i = 0; i < out.size(); ++i) {
-        T v;
-        std::memcpy(&v, bytes.data() + i * sizeof(T), sizeof(T));
-        out[i] = static_cast<float>(big_endian ? byteswap_value(v) : v);
-    }
-}
-
-// Converts the stored samples in `bytes` to floats.
-void decode_voxels(std::string_view bytes, VoxelType type, bool big_endian, std::vector<float>& out)
-{
-    switch (type) {
-    case VoxelType::u8: decode_as<uint8_t>(bytes, big_endian, out); break;
-    case VoxelType::i8: decode_as<int8_t>(bytes, big_endian, out); break;
-    case VoxelType::u16: decode_as<uint16_t>(bytes, big_endian, out); break;
-    case VoxelType::i16: decode_as<int16_t>(bytes, big_endian, out); break;
-    case VoxelType::u32: decode_as<uint32_t>(bytes, big_endian, out); break;
-    case VoxelType::i32: decode_as<int32_t>(bytes, big_endian, out); break;
-    case VoxelType::f32: decode_as<float>(bytes, big_endian, out); break;
-    case VoxelType::f64: decode_as<double>(bytes, big_endian, out); break;
-    }
-}
-
 std::vector<std::string> split_words(std::string_view s)
 {
     std::vector<std::string> words;
@@ -245,7 +219,8 @@ Dataset read_metaimage(const std::string& path)
     v.type = *h.type;
     v.spacing = h.spacing ? *h.spacing : h.size ? *h.size : glm::dvec3(1.0);
     v.origin = h.origin ? *h.origin : glm::dvec3(0.0);
-    decode_voxels(data, v.type, h.big_endian, v.values);
+    v.values.resize(data.size() / voxel_type_size(v.type));
+    decode_voxels(data, v.type, h.big_endian, v.values.data());
     finalize_volume(v);
     Dataset result;
     result.volume = std::move(v);

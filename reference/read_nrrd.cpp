@@ -23,32 +23,6 @@ namespace uvr {
 
 namespace {
 
-template <class T>
-void decode_as(std::string_view bytes, bool big_endian, std::vector<float>& out, std::size_t at)
-{
-    const std::size_t n = bytes.size() / sizeof(T);
-    for (std::size_t i = 0; i < n; ++i) {
-        T v;
-        std::memcpy(&v, bytes.data() + i * sizeof(T), sizeof(T));
-        out[at + i] = static_cast<float>(big_endian ? byteswap_value(v) : v);
-    }
-}
-
-// Converts the stored samples in `bytes` to floats at out[at...].
-void decode_voxels(std::string_view bytes, VoxelType type, bool big_endian, std::vector<float>& out, std::size_t at)
-{
-    switch (type) {
-    case VoxelType::u8: decode_as<uint8_t>(bytes, big_endian, out, at); break;
-    case VoxelType::i8: decode_as<int8_t>(bytes, big_endian, out, at); break;
-    case VoxelType::u16: decode_as<uint16_t>(bytes, big_endian, out, at); break;
-    case VoxelType::i16: decode_as<int16_t>(bytes, big_endian, out, at); break;
-    case VoxelType::u32: decode_as<uint32_t>(bytes, big_endian, out, at); break;
-    case VoxelType::i32: decode_as<int32_t>(bytes, big_endian, out, at); break;
-    case VoxelType::f32: decode_as<float>(bytes, big_endian, out, at); break;
-    case VoxelType::f64: decode_as<double>(bytes, big_endian, out, at); break;
-    }
-}
-
 std::optional<VoxelType> nrrd_type(const std::string& name)
 {
     struct Alias {
@@ -452,7 +426,7 @@ Dataset read_nrrd(const std::string& path)
         } else {
             std::string inflated;
             std::string_view bytes = piece_bytes(h, file, data, per_piece * elem, inflated);
-            decode_voxels(bytes, v.type, h.big_endian.value_or(false), v.values, p * per_piece);
+            decode_voxels(bytes, v.type, h.big_endian.value_or(false), v.values.data() + p * per_piece);
         }
     }
     finalize_volume(v);

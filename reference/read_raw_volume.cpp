@@ -13,35 +13,6 @@
 
 namespace uvr {
 
-namespace {
-
-template <class T>
-void decode_as(const std::string& bytes, bool big_endian, std::vector<float>& out)
-{
-    out.resize(bytes.size() / sizeof(T));
-    for (std::size_t i = 0; i < out.size(); ++i) {
-        T v;
-        std::memcpy(&v, bytes.data() + i * sizeof(T), sizeof(T));
-        out[i] = static_cast<float>(big_endian ? byteswap_value(v) : v);
-    }
-}
-
-void decode_voxels(const std::string& bytes, VoxelType type, bool big_endian, std::vector<float>& out)
-{
-    switch (type) {
-    case VoxelType::u8: decode_as<uint8_t>(bytes, big_endian, out); break;
-    case VoxelType::i8: decode_as<int8_t>(bytes, big_endian, out); break;
-    case VoxelType::u16: decode_as<uint16_t>(bytes, big_endian, out); break;
-    case VoxelType::i16: decode_as<int16_t>(bytes, big_endian, out); break;
-    case VoxelType::u32: decode_as<uint32_t>(bytes, big_endian, out); break;
-    case VoxelType::i32: decode_as<int32_t>(bytes, big_endian, out); break;
-    case VoxelType::f32: decode_as<float>(bytes, big_endian, out); break;
-    case VoxelType::f64: decode_as<double>(bytes, big_endian, out); break;
-    }
-}
-
-}  // namespace
-
 Dataset read_raw_volume(const std::string& path, const std::array<int64_t, 3>& dims, const std::string& dtype,
                         bool big_endian)
 {
@@ -65,7 +36,8 @@ Dataset read_raw_volume(const std::string& path, const std::array<int64_t, 3>& d
     v.source = path;
     v.dims = dims;
     v.type = type;
-    decode_voxels(bytes, type, big_endian, v.values);
+    v.values.resize(bytes.size() / voxel_type_size(type));
+    decode_voxels(bytes, type, big_endian, v.values.data());
     finalize_volume(v);
     Dataset result;
     result.volume = std::move(v);

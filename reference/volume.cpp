@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "reference/error.h"
 #include "reference/io_util.h"
@@ -59,6 +60,35 @@ std::size_t voxel_type_size(VoxelType t)
     case VoxelType::f64: return 8;
     }
     return 1;
+}
+
+namespace {
+
+template <class T>
+void decode_as(std::string_view bytes, bool big_endian, float* out)
+{
+    const std::size_t n = bytes.size() / sizeof(T);
+    for (std::size_t i = 0; i < n; ++i) {
+        T v;
+        std::memcpy(&v, bytes.data() + i * sizeof(T), sizeof(T));
+        out[i] = static_cast<float>(big_endian ? byteswap_value(v) : v);
+    }
+}
+
+}  // namespace
+
+void decode_voxels(std::string_view bytes, VoxelType type, bool big_endian, float* out)
+{
+    switch (type) {
+    case VoxelType::u8: decode_as<uint8_t>(bytes, big_endian, out); break;
+    case VoxelType::i8: decode_as<int8_t>(bytes, big_endian, out); break;
+    case VoxelType::u16: decode_as<uint16_t>(bytes, big_endian, out); break;
+    case VoxelType::i16: decode_as<int16_t>(bytes, big_endian, out); break;
+    case VoxelType::u32: decode_as<uint32_t>(bytes, big_endian, out); break;
+    case VoxelType::i32: decode_as<int32_t>(bytes, big_endian, out); break;
+    case VoxelType::f32: decode_as<float>(bytes, big_endian, out); break;
+    case VoxelType::f64: decode_as<double>(bytes, big_endian, out); break;
+    }
 }
 
 void finalize_volume(Volume& v)

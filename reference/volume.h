@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -34,6 +35,10 @@ struct Volume {
     VoxelType type = VoxelType::f32;   // as stored in the file
     std::vector<float> values;         // dims[0] * dims[1] * dims[2], x fastest
 };
+
+// Converts the samples stored in `bytes` (bytes.size() / voxel_type_size(type) of them, in the file's byte order) to
+// float at out[0 ...]; the caller sizes `out`. Every integer type up to 16 bits converts exactly.
+void decode_voxels(std::string_view bytes, VoxelType type, bool big_endian, float* out);
 
 // Checks dims >= 1, spacing finite and > 0, value count, finite values. Throws InputError naming volume.source.
 void finalize_volume(Volume& volume);
