@@ -46,6 +46,8 @@ void validate_camera(const Camera& cam, const std::string& file)
         throw InputError(file, "camera vectors must be finite");
     const glm::dvec3 d = cam.target - cam.eye;
     if (glm::length(d) == 0.0) throw InputError(file, "camera eye and target coincide");
+    // Beyond about 1e154 the length overflows and the view direction cannot be normalized (a NaN frame).
+    if (!std::isfinite(glm::length(d))) throw InputError(file, "camera eye and target are too far apart");
     if (glm::length(cam.up) == 0.0) throw InputError(file, "camera up vector is zero");
     const double s = glm::length(glm::cross(glm::normalize(d), glm::normalize(cam.up)));
     if (s < 1e-9) throw InputError(file, "camera up vector is parallel to the view direction");
@@ -66,6 +68,8 @@ Camera parse_camera(const std::string& text, const std::string& file)
                                                                                e.byte ? e.byte - 1 : 0, text.size())),
                                                             '\n'));
         throw InputError(file, line, std::string("invalid JSON: ") + e.what());
+    } catch (const nlohmann::json::exception& e) {  // out_of_range 406: a number too large for a double (1e400)
+        throw InputError(file, std::string("invalid JSON: ") + e.what());
     }
     if (!j.is_object()) throw InputError(file, "a camera must be a JSON object");
     auto vec = [&](const char* key, bool required, glm::dvec3 fallback) {

@@ -72,7 +72,11 @@ struct Header {
     std::optional<bool> big_endian;
     std::optional<glm::dvec3> spacings, directions_diagonal, origin;
     int64_t line_skip = 0, byte_skip = 0;
-    std::vector<std::string> data_files;  // empty: the data are attached
+    std::vector<std::string> data_files;  // empty (and no series): the data are attached
+    // A numbered series ("data file: quarter.%d 1 93 1"): its names are made one at a time as the files are read,
+    // so a header naming 10^8 files costs nothing until the first missing one is reported.
+    std::string series_pattern;
+    int64_t series_first = 0, series_step = 1, series_count = 0;
     int64_t subdim = 0;                   // 0: not given
     std::string content;
     std::size_t data_offset = 0;          // of attached data
@@ -196,8 +200,11 @@ bool parse_data_file(Header& h, const std::string& value, std::string_view text,
         if (h.dimension == 0 || count > samples)
             h.fail("the data file series names " + std::to_string(static_cast<int64_t>(std::min(count, 1e18L))) +
                    " files, more than the volume's samples (give 'sizes' before 'data file')");
-        for (int64_t i = 0, n = static_cast<int64_t>(count); i < n; ++i)
-            h.data_files.push_back(expand_pattern(h, words[0], first + i * step));
+        h.series_pattern = words[0];
+        h.series_first = first;
+        h.series_step = step;
+        h.series_count = static_cast<int64_t>(count);
+        expand_pattern(h, words[0], first);  // a malformed pattern is refused now, not at the first read
         return false;
     }
     h.data_files.push_back(value);
@@ -377,8 +384,8 @@ Dataset read_nrrd(const std::string& path)
                                        std::to_string(h.sizes[2]) + " describe more samples than uvr can hold");
         samples *= uint64_t(s);
     }
-    const bool attached = h.data_files.empty();
-    const uint64_t pieces = attached ? 1 : h.data_files.size();
+    const bool attached = h.data_files.empty() && h.series_count == 0;
+    const uint64_t pieces = attached ? 1 : h.series_count ? uint64_t(h.series_count) : h.data_files.size();
     uint64_t per_piece = samples / pieces;
     if (h.subdim != 0) {
         if (h.subdim < 1 || h.subdim > 3) throw InputError(path, "data file sub-dimension must be 1 to 3");
@@ -394,7 +401,9 @@ Dataset read_nrrd(const std::string& path)
 
     auto piece_path = [&](uint64_t p) {
         if (attached) return path;
-        const std::string& name = h.data_files[p];
+        const std::string name = h.series_count
+                                     ? expand_pattern(h, h.series_pattern, h.series_first + int64_t(p) * h.series_step)
+                                     : h.data_files[p];
         return name.front() == '/' ? name : directory_of(path) + name;
     };
     // The first piece is read before the value array is allocated, so that sizes no file could hold are refused

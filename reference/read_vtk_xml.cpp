@@ -390,7 +390,8 @@ Volume read_image(XmlFile& f, const pugi::xml_node& image)
         f.warnings.push_back(f.path + ": the image's Direction is ignored (uvr volumes are axis-aligned)");
     for (int a = 0; a < 3; ++a) {
         const double lo = ext[2 * a], hi = ext[2 * a + 1];
-        if (lo != std::floor(lo) || hi != std::floor(hi) || hi < lo || hi - lo >= double(kMaxElements))
+        if (!std::isfinite(lo) || !std::isfinite(hi) || lo != std::floor(lo) || hi != std::floor(hi) || hi < lo ||
+            hi - lo >= double(kMaxElements))
             f.fail("WholeExtent must hold integer ranges lo <= hi, found '" +
                    brief(image.attribute("WholeExtent").value()) + "'");
         v.dims[a] = static_cast<int64_t>(hi - lo) + 1;

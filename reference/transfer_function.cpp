@@ -105,6 +105,8 @@ TransferFunction parse_transfer_function(const std::string& text, const std::str
         j = nlohmann::json::parse(text);
     } catch (const nlohmann::json::parse_error& e) {
         throw InputError(file, line_of(text, e.byte ? e.byte - 1 : 0), std::string("invalid JSON: ") + e.what());
+    } catch (const nlohmann::json::exception& e) {  // out_of_range 406: a number too large for a double (1e400)
+        throw InputError(file, std::string("invalid JSON: ") + e.what());
     }
     if (!j.is_object()) throw InputError(file, "a transfer function must be a JSON object");
     TransferFunction tf;
@@ -138,7 +140,11 @@ TransferFunction parse_transfer_function(const std::string& text, const std::str
             if (r[1] < 0.0 || r[1] >= 1.0)
                 throw InputError(file, "opacity must be in [0, 1) (1 would be an infinite extinction), found " +
                                            std::to_string(r[1]));
-            tf.extinction.push_back({r[0], -std::log1p(-r[1]) / u});
+            const double tau = -std::log1p(-r[1]) / u;
+            if (!std::isfinite(tau))
+                throw InputError(file, "opacity " + std::to_string(r[1]) +
+                                           " is an infinite extinction over so small a \"unit_distance\"");
+            tf.extinction.push_back({r[0], tau});
         }
     } else {
         throw InputError(file, "missing \"extinction\" (or \"opacity\" with \"unit_distance\")");

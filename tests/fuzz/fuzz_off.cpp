@@ -1,0 +1,10 @@
+// libFuzzer target: tetrahedral OFF through uvr::read_off.
+#include "reference/dataset.h"
+#include "tests/fuzz/fuzz_common.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size)
+{
+    const std::string_view in = uvr_fuzz::as_view(data, size);
+    const std::string path = uvr_fuzz::write_file("input.off", in);
+    return uvr_fuzz::expect_input_error_only([&] { uvr::read_off(path); });
+}
