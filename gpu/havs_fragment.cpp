@@ -4,7 +4,7 @@
 
 namespace uvr::gpu {
 
-KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& f, int pix_x, int pix_y)
+FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace& f, int pix_x, int pix_y)
 {
     // Edge functions of the triangle at the pixel centre (their sum: the doubled signed area).
     const double fx = double(pix_x) + 0.5, fy = double(pix_y) + 0.5;
@@ -15,6 +15,8 @@ KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& f, int 
     const double sum = (e0 + e1) + e2;
     const double lim = -kOutsideTolerance * sum;
     const bool inside = sum > 0.0 ? (e0 >= lim && e1 >= lim && e2 >= lim) : (e0 <= lim && e1 <= lim && e2 <= lim);
+    FragmentValues out;
+    out.snapped = !inside;
     if (!inside) {
         // Covered only because of snapping: the snapped triangle's exact edge functions (fixed value 256 * p is
         // pixel p's centre).
@@ -38,8 +40,16 @@ KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& f, int 
     const double dx = px - ndc_x * fc.origin_x, dy = py - ndc_y * fc.origin_y;
     const double distance = std::sqrt((dx * dx + dy * dy) + pz * pz);
     const double s = (l0 * f.s[0] + l1 * f.s[1]) + l2 * f.s[2];
+    out.x = f.side * (1.0 + s);
+    out.distance = distance;
+    return out;
+}
+
+KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& f, int pix_x, int pix_y)
+{
     // The entry as the k-buffer stores it: float32.
-    return {float(f.side * (1.0 + s)), float(distance)};
+    const FragmentValues v = havs_fragment_values(fc, f, pix_x, pix_y);
+    return {float(v.x), float(v.distance)};
 }
 
 namespace {

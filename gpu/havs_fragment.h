@@ -78,6 +78,15 @@ struct HavsFace {
 // (docs/havs.md): 0.1 separates the two.
 inline constexpr double kOutsideTolerance = 0.1;
 
+// The fragment values in double before the k-buffer stores them as float32: x = side * (1 + s_n) and the distance;
+// `snapped` says whether the weights came from the snapped vertices (kOutsideTolerance). The GL stage test compares
+// the shader's doubles with these.
+struct FragmentValues {
+    double x = 0.0, distance = 0.0;
+    bool snapped = false;
+};
+FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace& face, int px, int py);
+
 // The incoming fragment's entry at window pixel (px, py) (gl_FragCoord.xy = (px + 0.5, py + 0.5)).
 KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& face, int px, int py);
 

@@ -221,41 +221,14 @@ HavsFrameConstants kbuffer_frame(float threshold, float max_gap)
 
 // ---- fragment-entry cases ----
 
-// havs_fragment_entry's double values before the rounding to float, transcribed from gpu/havs_fragment.cpp so that
-// the GL run's doubles can be compared too (rounding to float hides all but about one double-level difference in 2^29).
-// The test checks that these round to the emulation's entry on every case, which ties the transcription to it.
+// havs_fragment_entry's double values before the rounding to float (the emulation's own havs_fragment_values), so
+// that the GL run's doubles can be compared too (rounding to float hides all but about one double-level difference in
+// 2^29).
 glm::dvec2 entry_values(const HavsFrameConstants& fc, const HavsFace& f, int pix_x, int pix_y, bool& snapped)
 {
-    const double fx = double(pix_x) + 0.5, fy = double(pix_y) + 0.5;
-    const glm::dvec2* v = f.v;
-    double e0 = (v[2].x - v[1].x) * (fy - v[1].y) - (v[2].y - v[1].y) * (fx - v[1].x);
-    double e1 = (v[0].x - v[2].x) * (fy - v[2].y) - (v[0].y - v[2].y) * (fx - v[2].x);
-    double e2 = (v[1].x - v[0].x) * (fy - v[0].y) - (v[1].y - v[0].y) * (fx - v[0].x);
-    const double sum = (e0 + e1) + e2;
-    const double lim = -kOutsideTolerance * sum;
-    const bool inside = sum > 0.0 ? (e0 >= lim && e1 >= lim && e2 >= lim) : (e0 <= lim && e1 <= lim && e2 <= lim);
-    snapped = !inside;
-    if (!inside) {
-        const int64_t cx = int64_t(pix_x) * 256, cy = int64_t(pix_y) * 256;
-        auto edge = [&](int a, int b) {
-            return (int64_t(f.fx[b]) - f.fx[a]) * (cy - f.fy[a]) - (int64_t(f.fy[b]) - f.fy[a]) * (cx - f.fx[a]);
-        };
-        e0 = double(edge(1, 2));
-        e1 = double(edge(2, 0));
-        e2 = double(edge(0, 1));
-    }
-    const double w0 = e0 * f.inv_w[0], w1 = e1 * f.inv_w[1], w2 = e2 * f.inv_w[2];
-    const double inv_sum = 1.0 / ((w0 + w1) + w2);
-    const double l0 = w0 * inv_sum, l1 = w1 * inv_sum, l2 = w2 * inv_sum;
-    const double px = (l0 * f.q[0].x + l1 * f.q[1].x) + l2 * f.q[2].x;
-    const double py = (l0 * f.q[0].y + l1 * f.q[1].y) + l2 * f.q[2].y;
-    const double pz = (l0 * f.q[0].z + l1 * f.q[1].z) + l2 * f.q[2].z;
-    const double ndc_x = fx * fc.two_over_width - 1.0;
-    const double ndc_y = fy * fc.two_over_height - 1.0;
-    const double dx = px - ndc_x * fc.origin_x, dy = py - ndc_y * fc.origin_y;
-    const double distance = std::sqrt((dx * dx + dy * dy) + pz * pz);
-    const double s = (l0 * f.s[0] + l1 * f.s[1]) + l2 * f.s[2];
-    return {double(f.side) * (1.0 + s), distance};
+    const FragmentValues v = havs_fragment_values(fc, f, pix_x, pix_y);
+    snapped = v.snapped;
+    return {v.x, v.distance};
 }
 
 // A triangle in eye space seen through a perspective (or orthographic) camera onto a W x H window, with the

@@ -22,16 +22,7 @@ constexpr double kPrintedRangeTolerance = 1e-9;
 
 void require_input_error(const std::function<void()>& load, const std::string& file, const std::string& phrase)
 {
-    INFO("file: " << file << ", expected phrase: " << phrase);
-    try {
-        load();
-    } catch (const uvr::InputError& e) {
-        INFO("message: " << e.what());
-        CHECK_THAT(e.what(), Catch::Contains(file));
-        CHECK_THAT(e.what(), Catch::Contains(phrase));
-        return;
-    }
-    FAIL("no InputError was thrown");
+    uvr::test::require_input_error(load, {file, phrase});
 }
 
 void require_xml_error(const std::string& path, const std::string& phrase)
