@@ -211,6 +211,18 @@ std::string decode_base64(std::string_view in, const std::string& file, const ch
     return out;
 }
 
+std::vector<std::string> split_words(std::string_view s)
+{
+    std::vector<std::string> words;
+    std::size_t pos = 0;
+    while ((pos = s.find_first_not_of(" \t", pos)) != std::string_view::npos) {
+        std::size_t end = s.find_first_of(" \t", pos);
+        words.emplace_back(s.substr(pos, end == std::string_view::npos ? end : end - pos));
+        pos = end;
+    }
+    return words;
+}
+
 std::string lowercase(std::string_view s)
 {
     std::string r(s);

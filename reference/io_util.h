@@ -115,6 +115,7 @@ std::string inflate_bytes(std::string_view in, uint64_t expected_size, const std
 std::string decode_base64(std::string_view in, const std::string& file, const char* what);
 
 std::string lowercase(std::string_view s);
+std::vector<std::string> split_words(std::string_view s);  // on spaces and tabs, empty words dropped
 std::string file_extension(const std::string& path);  // lowercase, with the dot: ".vtk"; "" if none
 std::string directory_of(const std::string& path);    // "" or ending in '/'
 

@@ -21,18 +21,6 @@ namespace uvr {
 
 namespace {
 
-std::vector<std::string> split_words(std::string_view s)
-{
-    std::vector<std::string> words;
-    std::size_t pos = 0;
-    while ((pos = s.find_first_not_of(" \t", pos)) != std::string_view::npos) {
-        std::size_t end = s.find_first_of(" \t", pos);
-        words.emplace_back(s.substr(pos, end == std::string_view::npos ? end : end - pos));
-        pos = end;
-    }
-    return words;
-}
-
 struct Header {
     std::string path;
     long line = 0;

@@ -50,18 +50,6 @@ std::optional<VoxelType> nrrd_type(const std::string& name)
     return std::nullopt;
 }
 
-std::vector<std::string> split_words(std::string_view s)
-{
-    std::vector<std::string> words;
-    std::size_t pos = 0;
-    while ((pos = s.find_first_not_of(" \t", pos)) != std::string_view::npos) {
-        std::size_t end = s.find_first_of(" \t", pos);
-        words.emplace_back(s.substr(pos, end == std::string_view::npos ? end : end - pos));
-        pos = end;
-    }
-    return words;
-}
-
 struct Header {
     std::string path;
     long line = 0;  // of the field being parsed, for messages
