@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "bench/progress.h"
+#include "gpu/gl_havs.h"
 #include "reference/error.h"
 #include "reference/image_cache.h"
 #include "reference/reference_renderer.h"
@@ -13,6 +14,7 @@ namespace uvr::cli {
 void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
 {
     cmd.add_option("--backend", o.backend, "emu | gl")->capture_default_str();
+    cmd.add_option("--gl", o.gl, "With --backend gl: osmesa | egl")->capture_default_str();
     if (with_k) cmd.add_option("--k", o.k, "HAVS: k-buffer entries")->capture_default_str();
     cmd.add_option("--segment", o.segment, "HAVS: table | exact (emulation only)")->capture_default_str();
     cmd.add_option("--gaps", o.gaps, "HAVS: exact | maxgap (VTK's heuristic)")->capture_default_str();
@@ -75,26 +77,45 @@ AlgoResult run_reference(const Scene& s, bool use_cache)
     return r;
 }
 
-AlgoResult run_havs(const Scene& s, const AlgoOptions& a)
+AlgoResult havs_result(gpu::HavsFrame f, const AlgoOptions& a, double ms)
 {
-    if (a.backend != "emu")
-        throw InputError("", "--backend " + a.backend + " is not available yet for HAVS: only emu (the GL backend is "
-                             "issue 5)");
-    const auto t0 = Clock::now();
-    const gpu::HavsRenderer havs(s.mesh(), *s.topology, s.field, s.tf, havs_options(a));
-    gpu::HavsFrame f = havs.render(s.camera, s.width, s.height);
     AlgoResult r;
-    r.ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    r.ms = ms;
     const auto& st = f.stats;
-    r.stats = {{"k", a.k}, {"segment", a.segment}, {"gaps", a.gaps}, {"faces", st.faces}, {"fragments", st.fragments},
-               {"max_fragments_per_pixel", st.max_fragments}, {"max_held", st.max_held},
-               {"ordering_errors", st.ordering_errors},
+    r.stats = {{"k", a.k}, {"segment", a.segment}, {"gaps", a.gaps}, {"faces", st.faces},
                {"stages_ms", {{"table", st.table_ms}, {"sort", st.sort_ms}, {"setup", st.setup_ms},
                               {"raster_fragment", st.raster_fragment_ms}, {"flush", st.flush_ms}}}};
+    if (!f.fragments.empty()) {
+        r.stats["fragments"] = st.fragments;
+        r.stats["max_fragments_per_pixel"] = st.max_fragments;
+        r.stats["max_held"] = st.max_held;
+        r.stats["ordering_errors"] = st.ordering_errors;
+    }
     r.image = std::move(f.image);
     r.fragments = std::move(f.fragments);
     r.max_held = std::move(f.max_held);
     r.ordering_errors = std::move(f.ordering_errors);
+    return r;
+}
+
+AlgoResult run_havs(const Scene& s, const AlgoOptions& a)
+{
+    if (a.backend != "emu" && a.backend != "gl") throw InputError("", "--backend must be emu or gl, not '" + a.backend + "'");
+    const auto t0 = Clock::now();
+    if (a.backend == "emu") {
+        const gpu::HavsRenderer havs(s.mesh(), *s.topology, s.field, s.tf, havs_options(a));
+        gpu::HavsFrame f = havs.render(s.camera, s.width, s.height);
+        return havs_result(std::move(f), a, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    }
+    gpu::GlContext ctx(gpu::parse_gl_platform(a.gl));
+    const int kmax_diag = gpu::GlHavsRenderer::max_k(ctx.info(), true);
+    if (a.require_diagnostics && a.k > kmax_diag)
+        throw InputError("", "--diagnostics with --backend gl needs a free draw buffer: k at most " +
+                                 std::to_string(kmax_diag) + " on " + ctx.info().renderer);
+    gpu::GlHavsRenderer havs(ctx, s.mesh(), *s.topology, s.field, s.tf, havs_options(a), a.k <= kmax_diag);
+    gpu::HavsFrame f = havs.render(s.camera, s.width, s.height);
+    AlgoResult r = havs_result(std::move(f), a, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    r.stats["gl"] = ctx.info().summary();
     return r;
 }
 
@@ -104,7 +125,7 @@ void run_algorithm_check(const std::string& algo)
 {
     if (algo == "reference" || algo == "havs") return;
     if (algo == "vicp" || algo == "raycast")
-        throw InputError("", "--algo " + algo + " is not available yet: reference and havs (emu) have landed "
+        throw InputError("", "--algo " + algo + " is not available yet: reference and havs have landed "
                              "(docs/status.md)");
     throw InputError("", "unknown algorithm '" + algo + "' (reference, havs, vicp, raycast)");
 }

@@ -15,6 +15,8 @@ namespace uvr::cli {
 
 struct AlgoOptions {
     std::string backend = "emu";
+    std::string gl = "osmesa";  // --backend gl: osmesa | egl
+    bool require_diagnostics = false;  // render --diagnostics: refuse a configuration that cannot produce them
     int k = 6;
     std::string segment = "table";
     std::string gaps = "exact";
@@ -24,7 +26,7 @@ struct AlgoOptions {
     bool no_cache = false;
 };
 
-// --backend, --k (unless with_k is false: sweep takes a list), --segment, --gaps, --threshold, --table-size,
+// --backend, --gl, --k (unless with_k is false: sweep takes a list), --segment, --gaps, --threshold, --table-size,
 // --table-format, --no-cache.
 void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k = true);
 gpu::HavsOptions havs_options(const AlgoOptions& o);
@@ -37,7 +39,7 @@ struct AlgoResult {
     std::vector<uint32_t> fragments, max_held, ordering_errors;  // HAVS diagnostics, SPEC row order
 };
 
-// algo: "reference" or "havs" (emu). Throws InputError for an algorithm or backend that has not landed.
+// algo: "reference" or "havs" (emu or gl). Throws InputError for an algorithm or backend that has not landed.
 AlgoResult run_algorithm(const Scene& scene, const std::string& algo, const AlgoOptions& o);
 
 // Throws InputError for an algorithm that is unknown or has not landed (before any work is done).

@@ -13,7 +13,8 @@
 
 #include "bench/commands.h"
 #include "bench/scene.h"
-#include "gpu/havs.h"
+#include "gpu/gl_havs.h"
+#include "bench/algorithms.h"
 #include "reference/error.h"
 #include "reference/reference_renderer.h"
 
@@ -27,6 +28,8 @@ struct BenchArgs {
     int repeat = 5;
     int warmup = 1;
     int k = 6;
+    std::string backends = "emu";
+    std::string gl = "osmesa";
     bool json = false;
 };
 
@@ -85,18 +88,15 @@ nlohmann::json bench_reference(const Scene& s, const BenchArgs& a)
     return j;
 }
 
-nlohmann::json bench_havs(const Scene& s, const BenchArgs& a)
+// Times HAVS on one backend: the emulation, or GL on the chosen platform. `render` is called warmup + repeat times.
+template <class Render>
+nlohmann::json bench_havs_frames(const Scene& s, const BenchArgs& a, Render&& render)
 {
-    gpu::HavsOptions o;
-    o.k = a.k;
-    const auto t0 = Clock::now();
-    const gpu::HavsRenderer havs(s.mesh(), *s.topology, s.field, s.tf, o);
-    const double build_ms = ms_since(t0);
-    std::vector<double> frame_ms, sort_ms, setup_ms, raster_ms, flush_ms;
+    std::vector<double> frame_ms, sort_ms, setup_ms, raster_ms, flush_ms, readback_ms;
     gpu::HavsStats last;
     for (int r = 0; r < a.warmup + a.repeat; ++r) {
         const auto f0 = Clock::now();
-        const gpu::HavsFrame f = havs.render(s.camera, s.width, s.height);
+        const gpu::HavsFrame f = render(s.camera, s.width, s.height);
         const double ms = ms_since(f0);
         if (r < a.warmup) continue;
         frame_ms.push_back(ms);
@@ -104,24 +104,51 @@ nlohmann::json bench_havs(const Scene& s, const BenchArgs& a)
         setup_ms.push_back(f.stats.setup_ms);
         raster_ms.push_back(f.stats.raster_fragment_ms);
         flush_ms.push_back(f.stats.flush_ms);
+        readback_ms.push_back(f.stats.readback_ms);
         last = f.stats;
     }
     const double fm = median(frame_ms);
     nlohmann::json j;
     j["algo"] = "havs";
-    j["backend"] = "emu";
     j["k"] = a.k;
     j["frame_ms"] = fm;
     j["frame_ms_all"] = frame_ms;
     j["stages"] = {{"sort", median(sort_ms)},
-                   {"vertex_and_binning", median(setup_ms)},
+                   {"vertex_and_setup", median(setup_ms)},
                    {"raster_and_fragment", median(raster_ms)},
-                   {"flush", median(flush_ms)}};
-    j["table_build_ms"] = build_ms;
+                   {"flush", median(flush_ms)},
+                   {"readback", median(readback_ms)}};
     j["faces"] = last.faces;
-    j["fragments"] = last.fragments;
-    j["fragments_per_s"] = double(last.fragments) / (median(raster_ms) / 1000.0);
-    j["ordering_errors"] = last.ordering_errors;
+    j["tetrahedra_per_s"] = double(s.mesh().tets.size()) / (fm / 1000.0);
+    if (last.fragments) {
+        j["fragments"] = last.fragments;
+        j["fragments_per_s"] = double(last.fragments) / (median(raster_ms) / 1000.0);
+        j["ordering_errors"] = last.ordering_errors;
+    }
+    return j;
+}
+
+nlohmann::json bench_havs(const Scene& s, const BenchArgs& a, const std::string& backend)
+{
+    gpu::HavsOptions o;
+    o.k = a.k;
+    const auto t0 = Clock::now();
+    if (backend == "emu") {
+        const gpu::HavsRenderer havs(s.mesh(), *s.topology, s.field, s.tf, o);
+        const double build_ms = ms_since(t0);
+        nlohmann::json j = bench_havs_frames(s, a, [&](const Camera& c, int w, int h) { return havs.render(c, w, h); });
+        j["backend"] = "emu";
+        j["build_ms"] = build_ms;
+        return j;
+    }
+    gpu::GlContext ctx(gpu::parse_gl_platform(a.gl));
+    gpu::GlHavsRenderer havs(ctx, s.mesh(), *s.topology, s.field, s.tf, o,
+                             a.k <= gpu::GlHavsRenderer::max_k(ctx.info(), true));
+    const double build_ms = ms_since(t0);
+    nlohmann::json j = bench_havs_frames(s, a, [&](const Camera& c, int w, int h) { return havs.render(c, w, h); });
+    j["backend"] = "gl";
+    j["gl"] = ctx.info().summary();
+    j["build_ms"] = build_ms;
     return j;
 }
 
@@ -136,15 +163,16 @@ void register_bench(CLI::App& app)
     cmd->add_option("--repeat", a->repeat, "Timed repetitions")->capture_default_str()->check(CLI::Range(1, 1000));
     cmd->add_option("--warmup", a->warmup, "Untimed repetitions first")->capture_default_str()->check(CLI::Range(0, 100));
     cmd->add_option("--k", a->k, "HAVS: k-buffer entries")->capture_default_str();
+    cmd->add_option("--backend,--backends", a->backends, "Comma-separated backends of the GPU algorithms (emu, gl)")
+        ->capture_default_str();
+    cmd->add_option("--gl", a->gl, "With the gl backend: osmesa | egl")->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     cmd->callback([a] {
-        std::vector<std::string> algos;
-        std::stringstream ss(a->algos);
-        for (std::string x; std::getline(ss, x, ',');)
-            if (!x.empty()) algos.push_back(x);
-        for (const auto& x : algos)
-            if (x != "reference" && x != "havs")
-                throw InputError("", "--algos " + x + " is not available yet: reference and havs (emu) have landed");
+        const std::vector<std::string> algos = split_list(a->algos), backends = split_list(a->backends);
+        for (const auto& x : algos) run_algorithm_check(x);
+        for (const auto& b : backends)
+            if (b != "emu" && b != "gl") throw InputError("", "--backend must list emu and/or gl, not '" + b + "'");
+        gpu::parse_gl_platform(a->gl);
         const auto t0 = Clock::now();
         const Scene s = setup_scene(a->scene);
         const double load_ms = ms_since(t0);
@@ -156,8 +184,13 @@ void register_bench(CLI::App& app)
         out["load_ms"] = load_ms;
         out["machine"] = {{"cpu", cpu_model()}, {"threads", std::thread::hardware_concurrency()}};
         out["results"] = nlohmann::json::array();
-        for (const auto& x : algos)
-            out["results"].push_back(x == "reference" ? bench_reference(s, *a) : bench_havs(s, *a));
+        for (const auto& x : algos) {
+            if (x == "reference") {
+                out["results"].push_back(bench_reference(s, *a));
+                continue;
+            }
+            for (const auto& b : backends) out["results"].push_back(bench_havs(s, *a, b));
+        }
         out["peak_rss_mib"] = peak_rss_mib();
         out["bytes_per_tet"] = peak_rss_mib() * 1024.0 * 1024.0 / double(s.mesh().tets.size());
         if (a->json) {
@@ -174,12 +207,12 @@ void register_bench(CLI::App& app)
                             r["rays_per_s"].get<double>() / 1e6, r["segments_per_s"].get<double>() / 1e6,
                             r["stages"]["setup"].get<double>());
             else
-                std::printf(" k=%d  %6.2f Mfragments/s  sort %.1f, vertex+bin %.1f, raster+fragment %.1f, flush %.1f ms "
-                            "(table built in %.0f ms)\n",
-                            r["k"].get<int>(), r["fragments_per_s"].get<double>() / 1e6,
-                            r["stages"]["sort"].get<double>(), r["stages"]["vertex_and_binning"].get<double>(),
+                std::printf(" k=%d  %6.2f Mfragments/s  sort %.1f, vertex+setup %.1f, raster+fragment %.1f, flush %.1f, "
+                            "readback %.1f ms (built in %.0f ms)\n",
+                            r["k"].get<int>(), r.value("fragments_per_s", 0.0) / 1e6, r["stages"]["sort"].get<double>(),
+                            r["stages"]["vertex_and_setup"].get<double>(),
                             r["stages"]["raster_and_fragment"].get<double>(), r["stages"]["flush"].get<double>(),
-                            r["table_build_ms"].get<double>());
+                            r["stages"]["readback"].get<double>(), r["build_ms"].get<double>());
         }
         std::printf("  peak memory %.1f MiB (%.0f bytes per tetrahedron)\n", out["peak_rss_mib"].get<double>(),
                     out["bytes_per_tet"].get<double>());

@@ -58,6 +58,7 @@ void register_render(CLI::App& app)
         // Fail on an unknown output format before spending time on the render.
         const std::string ext = file_extension(a->out);
         if (ext != ".npy" && ext != ".png") throw InputError(a->out, "unsupported image extension (use .npy or .png)");
+        a->algo_options.require_diagnostics = !a->diagnostics.empty();
         const Scene s = setup_scene(a->scene);
         const AlgoResult r = run_algorithm(s, a->algo, a->algo_options);
         write_image(a->out, r.image);

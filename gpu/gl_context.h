@@ -55,6 +55,10 @@ GlPlatform parse_gl_platform(const std::string& name);        // throws InputErr
     X(PFNGLUNIFORM1IPROC, Uniform1i)                                                                                \
     X(PFNGLUNIFORM1FPROC, Uniform1f)                                                                                \
     X(PFNGLUNIFORM1DPROC, Uniform1d)                                                                                \
+    X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                                                                  \
+    X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                                            \
+    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                                                    \
+    X(PFNGLDRAWELEMENTSPROC, DrawElements)                                                                          \
     X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                                                                    \
     X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                                                    \
     X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                                              \

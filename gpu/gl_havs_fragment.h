@@ -8,6 +8,7 @@
 
 #include "gpu/gl_context.h"
 #include "gpu/havs_fragment.h"
+#include "gpu/preintegration_table.h"
 
 namespace uvr::gpu {
 
@@ -27,6 +28,12 @@ static_assert(sizeof(GlHavsFace) == 200 && offsetof(GlHavsFace, v) == 72 && offs
               "GlHavsFace must match the std430 layout of HavsFace in shaders/havs_fragment.frag");
 
 GlHavsFace pack_havs_face(const HavsFace& f);
+
+// Uploads `table` as the 3D texture havs_table samples (texture unit 4; GL_RGBA32F, GL_RGBA16 or GL_RGBA8 after its
+// format, data() as it is), with `filter` for magnification and minification and CLAMP_TO_EDGE. Creates `texture`
+// when it is 0. Leaves texture unit 4 active.
+void upload_preintegration_table(const GlContext& ctx, const PreintegrationTable& table, TextureFilter filter,
+                                 GLuint& texture);
 
 // Sets the havs_* uniforms of a program built from havs_fragment.frag (the program must be in use).
 void set_havs_frame_uniforms(const GlContext& ctx, const GlProgram& program, const HavsFrameConstants& fc);

@@ -154,20 +154,7 @@ const GlProgram& GlHavsFragmentHarness::program(int k, int mode)
 
 void GlHavsFragmentHarness::upload_table(const PreintegrationTable& table)
 {
-    const GlFunctions& gl = ctx_.gl();
-    if (!table_texture_) gl.GenTextures(1, &table_texture_);
-    gl.ActiveTexture(GL_TEXTURE4);
-    gl.BindTexture(GL_TEXTURE_3D, table_texture_);
-    const int n = table.scalar_resolution(), l = table.length_resolution();
-    GLenum internal = GL_RGBA32F, type = GL_FLOAT;
-    if (table.config().format == TexelFormat::u16) internal = GL_RGBA16, type = GL_UNSIGNED_SHORT;
-    if (table.config().format == TexelFormat::u8) internal = GL_RGBA8, type = GL_UNSIGNED_BYTE;
-    gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    gl.TexImage3D(GL_TEXTURE_3D, 0, GLint(internal), n, n, l, 0, GL_RGBA, type, table.data());
-    for (GLenum p : {GL_TEXTURE_MIN_FILTER, GL_TEXTURE_MAG_FILTER}) gl.TexParameteri(GL_TEXTURE_3D, p, GL_LINEAR);
-    for (GLenum p : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-        gl.TexParameteri(GL_TEXTURE_3D, p, GL_CLAMP_TO_EDGE);
-    ctx_.check_error("uploading the pre-integration table");
+    upload_preintegration_table(ctx_, table, TextureFilter::linear, table_texture_);
 }
 
 KBufferResults GlHavsFragmentHarness::run_kbuffer(const HavsFrameConstants& fc, const KBufferCases& cases,

@@ -8,28 +8,11 @@
 #include <vector>
 
 #include "gpu/havs_fragment.h"
-#include "gpu/preintegration_table.h"
+#include "gpu/havs_setup.h"
 #include "reference/camera.h"
 #include "reference/image.h"
-#include "reference/mesh.h"
-#include "reference/segment_integral.h"
-#include "reference/topology.h"
 
 namespace uvr::gpu {
-
-enum class SegmentMode { table, exact };  // --segment: the pre-integrated table, or the exact integral (emulation only)
-enum class GapMode { exact, maxgap };     // --gaps: exit faces marked (exact), or VTK's maximum-gap heuristic
-
-struct HavsOptions {
-    int k = 6;
-    SegmentMode segment = SegmentMode::table;
-    GapMode gaps = GapMode::exact;
-    float threshold = 0.99f;  // the opacity kill; 1 switches early termination off
-    int table_size = 128;     // texels along each of the table's three axes
-    TexelFormat table_format = TexelFormat::f32;
-    double table_max_length = 0.0;  // 0: the mesh's longest edge (no segment inside one cell is longer)
-    TextureFilter filter = TextureFilter::linear;
-};
 
 struct HavsStats {
     uint64_t faces = 0;
@@ -38,6 +21,7 @@ struct HavsStats {
     uint32_t max_fragments = 0;  // most fragments on one pixel
     uint32_t max_held = 0;       // most entries held at once on one pixel
     double sort_ms = 0, setup_ms = 0, raster_fragment_ms = 0, flush_ms = 0, table_ms = 0;
+    double readback_ms = 0;  // the GL backend's glReadPixels (0 in the emulation)
 };
 
 struct HavsFrame {
@@ -55,21 +39,12 @@ public:
 
     HavsFrame render(const Camera& camera, int width, int height) const;
 
-    const HavsOptions& options() const { return options_; }
-    double longest_edge() const { return longest_edge_; }
+    const HavsOptions& options() const { return mesh_.options(); }
+    double longest_edge() const { return mesh_.longest_edge(); }
+    const HavsMesh& cpu_stage() const { return mesh_; }
 
 private:
-    const TetMesh& mesh_;
-    HavsOptions options_;
-    SegmentIntegrator integrator_;
-    Range range_;
-    double longest_edge_ = 0.0;
-    std::vector<glm::vec3> points_f_;   // float positions (the vertex buffer)
-    std::vector<double> scalar_n_;      // normalized scalar per point
-    std::vector<uint32_t> faces_;       // 3 indices per unique face
-    std::vector<uint8_t> boundary_;     // 1 for a boundary face that can be an exit face (exact gaps)
-    std::unique_ptr<PreintegrationTable> table_;
-    double table_ms_ = 0.0;
+    HavsMesh mesh_;
 };
 
 }  // namespace uvr::gpu

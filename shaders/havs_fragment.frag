@@ -105,6 +105,14 @@ vec4 havs_table_lookup(float u_front, float u_back, float t_z)
     return texture(havs_table, vec3(u_front, u_back, t_z));
 }
 
+#ifdef HAVS_DIAGNOSTICS
+// KBufferDiagnostics of the emulation, as floats (counts are exact below 2^24): fragments, most entries held at once,
+// ordering errors, the last composited segment's back distance. The pass loads it before havs_kbuffer and stores it
+// after.
+vec4 havs_diag;
+bool havs_real_entry(vec2 e) { return e.y > 0.0 && e.y < uintBitsToFloat(0x7f800000u); }
+#endif
+
 // havs_kbuffer: one run of the program on one pixel. a[] holds the k stored entries (x, y) and is overwritten with
 // the k remaining ones; fb is the framebuffer colour, replaced by the composited one. Returns false when the fragment
 // is killed (the caller discards: nothing is written).
@@ -113,6 +121,9 @@ bool havs_kbuffer(vec2 a0, inout vec2 a[HAVS_K], inout vec4 fb)
     // KIL (threshold - alpha).
     precise float kill = havs_threshold - fb.a;
     if (kill < 0.0) return false;
+#ifdef HAVS_DIAGNOSTICS
+    if (havs_real_entry(a0)) havs_diag.x += 1.0;
+#endif
     // The selection chain: on t < 0 the running minimum stays, otherwise (ties included) the stored entry becomes
     // the minimum.
     vec2 r[HAVS_K + 1];
@@ -141,10 +152,21 @@ bool havs_kbuffer(vec2 a0, inout vec2 a[HAVS_K], inout vec4 fb)
         precise float u_back = abs(second.x) - 1.0;
         c = havs_shade(u_front, u_back, t_z, seg_length);
     }
+#ifdef HAVS_DIAGNOSTICS
+    if (havs_real_entry(r[0])) {
+        if (r[0].y < havs_diag.w) havs_diag.z += 1.0;
+        if (havs_real_entry(second)) havs_diag.w = max(havs_diag.w, second.y);
+    }
+#endif
     // Front to back: fb = c * (1 - fb.a) + fb.
     precise float one_minus_a = 1.0 - fb.a;
     precise vec4 composited = c * one_minus_a + fb;
     fb = composited;
     for (int i = 1; i <= HAVS_K; ++i) a[i - 1] = r[i];
+#ifdef HAVS_DIAGNOSTICS
+    float held = 0.0;
+    for (int i = 1; i <= HAVS_K; ++i) held += havs_real_entry(r[i]) ? 1.0 : 0.0;
+    havs_diag.y = max(havs_diag.y, held);
+#endif
     return true;
 }

@@ -1,14 +1,11 @@
 // HAVS emulated, frame by frame, against the ground truth (issue 4's tests).
 #include <cmath>
 
-#include <glm/geometric.hpp>
 #include <tbb/global_control.h>
 
 #include "gpu/havs.h"
-#include "reference/builtin_mesh.h"
-#include "reference/dataset.h"
+#include "havs_scenes.h"
 #include "reference/reference_renderer.h"
-#include "test_support.h"
 
 using namespace uvr;
 using namespace uvr::gpu;
@@ -43,29 +40,9 @@ Errors compare(const Image& a, const Image& b)
     return e;
 }
 
-struct Scene {
-    TetMesh mesh;
-    std::size_t field = 0;
-    MeshTopology topo;
-    TransferFunction tf;
-};
-
-Scene make_scene(TetMesh mesh, std::size_t field)
-{
-    Scene s{std::move(mesh), field, {}, {}};
-    s.topo = build_topology(s.mesh);
-    s.tf = default_transfer_function(field_range(s.mesh.fields[field]), glm::length(mesh_bounds(s.mesh).extent()));
-    return s;
-}
-
-Scene plot3d(const char* xyz, const char* q, const std::string& field)
-{
-    LoadOptions o;
-    o.q_file = uvr::test::data_path(q);
-    TetMesh m = *load_dataset(uvr::test::data_path(xyz), o).mesh;
-    const std::size_t f = find_field(m, field);
-    return make_scene(std::move(m), f);
-}
+using test::Scene;
+using test::make_scene;
+using test::plot3d;
 
 HavsOptions exact_options(int k)
 {

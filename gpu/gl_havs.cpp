@@ -1,0 +1,269 @@
+#include "gpu/gl_havs.h"
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "gpu/gl_havs_fragment.h"
+#include "reference/error.h"
+
+namespace uvr::gpu {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+constexpr const char* kFramebufferFetch = "GL_EXT_shader_framebuffer_fetch";
+constexpr const char* kInt64 = "GL_ARB_gpu_shader_int64";
+
+int entry_targets(int k) { return (k + 1) / 2; }
+
+}  // namespace
+
+struct GlHavsRenderer::Objects {
+    const GlFunctions& gl;
+    std::unique_ptr<GlProgram> geometry, flush;
+    GLuint mesh_vao = 0, empty_vao = 0;
+    GLuint vertex_buffer = 0, element_buffer = 0, face_buffer = 0;
+    GLuint table_texture = 0;
+    GLuint fbo = 0;
+    std::vector<GLuint> attachments;  // colour, k-buffer targets, diagnostics
+    int width = 0, height = 0;
+
+    explicit Objects(const GlFunctions& g) : gl(g) {}
+    ~Objects()
+    {
+        release_framebuffer();
+        geometry.reset();
+        flush.reset();
+        const GLuint buffers[] = {vertex_buffer, element_buffer, face_buffer};
+        gl.DeleteBuffers(3, buffers);
+        const GLuint vaos[] = {mesh_vao, empty_vao};
+        gl.DeleteVertexArrays(2, vaos);
+        if (table_texture) gl.DeleteTextures(1, &table_texture);
+    }
+    void release_framebuffer()
+    {
+        if (fbo) {
+            gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+            gl.DeleteFramebuffers(1, &fbo);
+            fbo = 0;
+        }
+        if (!attachments.empty()) gl.DeleteTextures(GLsizei(attachments.size()), attachments.data());
+        attachments.clear();
+        width = height = 0;
+    }
+};
+
+int GlHavsRenderer::max_k(const GlInfo& info, bool diagnostics)
+{
+    const int targets = std::min(info.max_draw_buffers, info.max_color_attachments) - 1 - (diagnostics ? 1 : 0);
+    return std::max(0, 2 * targets);
+}
+
+namespace {
+const HavsOptions& checked_gl_options(const GlContext& ctx, const HavsOptions& o, bool diagnostics)
+{
+    const GlInfo& info = ctx.info();
+    for (const char* ext : {kFramebufferFetch, kInt64})
+        if (!info.has_extension(ext))
+            throw InputError("", std::string("the GL context (") + info.summary() + ") lacks " + ext +
+                                     ", which the GL backend of HAVS needs (docs/gl-backend.md); use --backend emu");
+    if (o.segment == SegmentMode::exact)
+        throw InputError("", "--segment exact runs only in the emulation (--backend emu): on a GPU the fragment "
+                             "program samples the pre-integrated table");
+    const int kmax = GlHavsRenderer::max_k(info, diagnostics);
+    if (o.k < 1 || o.k > kmax)
+        throw InputError("", "--k must be between 1 and " + std::to_string(kmax) + " with --backend gl on " +
+                                 info.renderer + " (" + std::to_string(info.max_draw_buffers) + " draw buffers" +
+                                 (diagnostics ? ", one of them for the diagnostics)" : ")"));
+    return o;
+}
+}  // namespace
+
+GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
+                               const TransferFunction& tf, const HavsOptions& options, bool diagnostics)
+    : ctx_(ctx),
+      mesh_(mesh, topo, field, tf, checked_gl_options(ctx, options, diagnostics)),
+      diagnostics_(diagnostics)
+{
+    ctx_.make_current();
+    const GlFunctions& gl = ctx_.gl();
+    gl_ = std::make_unique<Objects>(gl);
+    const int k = mesh_.options().k;
+
+    std::vector<std::pair<std::string, std::string>> defines = {
+        {"HAVS_K", std::to_string(k)}, {"HAVS_TARGETS", std::to_string(entry_targets(k))}};
+    if (diagnostics_) defines.push_back({"HAVS_DIAGNOSTICS", "1"});
+    const std::vector<std::string> extensions = {kInt64, kFramebufferFetch};
+    const std::vector<std::string> files = {"havs_fragment.frag", "havs.frag"};
+    gl_->geometry = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"havs_vertex.vert"}, {}, {}},
+                                                GlShaderSource{files, defines, extensions});
+    defines.push_back({"HAVS_PASS_FLUSH", "1"});
+    gl_->flush = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"fullscreen.vert"}, {}, {}},
+                                             GlShaderSource{files, defines, extensions});
+
+    // The vertex buffer (float positions, as the emulation's points_f) and the element buffer, in one vertex array.
+    gl.GenVertexArrays(1, &gl_->mesh_vao);
+    gl.GenVertexArrays(1, &gl_->empty_vao);
+    gl.BindVertexArray(gl_->mesh_vao);
+    gl.GenBuffers(1, &gl_->vertex_buffer);
+    gl.BindBuffer(GL_ARRAY_BUFFER, gl_->vertex_buffer);
+    const auto& pts = mesh_.points_f();
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(pts.size() * sizeof(glm::vec3)), pts.data(), GL_STATIC_DRAW);
+    gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+    gl.EnableVertexAttribArray(0);
+    gl.GenBuffers(1, &gl_->element_buffer);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, gl_->element_buffer);
+    gl.BindVertexArray(0);
+    gl.GenBuffers(1, &gl_->face_buffer);
+
+    upload_preintegration_table(ctx_, *mesh_.table(), mesh_.options().filter, gl_->table_texture);
+    ctx_.check_error("setting up HAVS on GL");
+}
+
+GlHavsRenderer::~GlHavsRenderer()
+{
+    ctx_.make_current();
+    gl_.reset();
+}
+
+HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
+{
+    ctx_.make_current();
+    const GlFunctions& gl = ctx_.gl();
+    const int k = mesh_.options().k, targets = entry_targets(k);
+    const int attachments = 1 + targets + (diagnostics_ ? 1 : 0);
+
+    HavsFrame out;
+    HavsStats& st = out.stats;
+    st.table_ms = mesh_.table_ms();
+    st.faces = mesh_.face_count();
+
+    // CPU stage: sort, vertex stage, then every face's constants and vertex indices in sorted order.
+    const HavsFrameSetup fs = setup_havs_frame(mesh_, cam, width, height);
+    st.sort_ms = fs.sort_ms;
+    auto t0 = Clock::now();
+    const std::size_t nfaces = fs.order.size();
+    std::vector<GlHavsFace> records(nfaces);
+    std::vector<uint32_t> indices(3 * nfaces);
+    const auto& faces = mesh_.faces();
+    tbb::parallel_for(std::size_t(0), nfaces, [&](std::size_t i) {
+        const uint32_t f = fs.order[i];
+        records[i] = pack_havs_face(havs_face_constants(mesh_, fs, f));
+        for (int j = 0; j < 3; ++j) indices[3 * i + std::size_t(j)] = faces[3 * std::size_t(f) + std::size_t(j)];
+    });
+    gl.BindVertexArray(gl_->mesh_vao);
+    gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(uint32_t)), indices.data(),
+                  GL_STREAM_DRAW);
+    gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, gl_->face_buffer);
+    gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(records.size() * sizeof(GlHavsFace)), records.data(),
+                  GL_STREAM_DRAW);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, gl_->face_buffer);
+
+    // The framebuffer: RGBA32F attachments, made again when the size changes.
+    if (gl_->width != width || gl_->height != height) {
+        gl_->release_framebuffer();
+        gl.GenFramebuffers(1, &gl_->fbo);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, gl_->fbo);
+        gl_->attachments.resize(std::size_t(attachments));
+        gl.GenTextures(GLsizei(attachments), gl_->attachments.data());
+        gl.ActiveTexture(GL_TEXTURE0);
+        for (int i = 0; i < attachments; ++i) {
+            gl.BindTexture(GL_TEXTURE_2D, gl_->attachments[std::size_t(i)]);
+            gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, nullptr);
+            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            gl.FramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + i), GL_TEXTURE_2D,
+                                    gl_->attachments[std::size_t(i)], 0);
+        }
+        std::vector<GLenum> bufs;
+        for (int i = 0; i < attachments; ++i) bufs.push_back(GLenum(GL_COLOR_ATTACHMENT0 + i));
+        gl.DrawBuffers(GLsizei(attachments), bufs.data());
+        check_framebuffer(ctx_, "the HAVS framebuffer");
+        gl_->width = width;
+        gl_->height = height;
+    }
+    gl.BindFramebuffer(GL_FRAMEBUFFER, gl_->fbo);
+    gl.Viewport(0, 0, width, height);
+    gl.Disable(GL_BLEND);
+    gl.Disable(GL_DEPTH_TEST);
+    gl.Disable(GL_CULL_FACE);
+    // Cleared as the emulation starts: colour 0, every entry empty (-1, 0), diagnostics 0.
+    const float zero[4] = {0, 0, 0, 0};
+    const float empty[4] = {kEmptyEntry.x, kEmptyEntry.y, kEmptyEntry.x, kEmptyEntry.y};
+    gl.ClearBufferfv(GL_COLOR, 0, zero);
+    for (int t = 0; t < targets; ++t) gl.ClearBufferfv(GL_COLOR, 1 + t, empty);
+    if (diagnostics_) gl.ClearBufferfv(GL_COLOR, 1 + targets, zero);
+
+    auto use = [&](const GlProgram& p) {
+        gl.UseProgram(p.id());
+        set_havs_frame_uniforms(ctx_, p, fs.constants);
+    };
+    use(*gl_->geometry);
+    gl.UniformMatrix4fv(gl_->geometry->uniform("havs_mvp", true), 1, GL_FALSE, &fs.view.mvp[0][0]);
+    ctx_.check_error("preparing the HAVS geometry pass");
+    st.setup_ms = fs.vertex_ms + ms_since(t0);
+
+    // The geometry pass: every face, in sorted order, in one draw.
+    t0 = Clock::now();
+    gl.DrawElements(GL_TRIANGLES, GLsizei(indices.size()), GL_UNSIGNED_INT, nullptr);
+    gl.Finish();
+    ctx_.check_error("the HAVS geometry pass");
+    st.raster_fragment_ms = ms_since(t0);
+
+    // The flush passes: k full-screen passes of the flush fragment.
+    t0 = Clock::now();
+    use(*gl_->flush);
+    gl.BindVertexArray(gl_->empty_vao);
+    for (int pass = 0; pass < k; ++pass) gl.DrawArrays(GL_TRIANGLES, 0, 3);
+    gl.Finish();
+    ctx_.check_error("the HAVS flush passes");
+    st.flush_ms = ms_since(t0);
+    gl.BindVertexArray(0);
+
+    // Read back (exact for float attachments), flipping GL rows to SPEC rows.
+    t0 = Clock::now();
+    const std::size_t npix = std::size_t(width) * std::size_t(height);
+    std::vector<float> colour(4 * npix), diag;
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+    gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
+    gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, colour.data());
+    if (diagnostics_) {
+        diag.resize(4 * npix);
+        gl.ReadBuffer(GLenum(GL_COLOR_ATTACHMENT0 + 1 + targets));
+        gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, diag.data());
+    }
+    ctx_.check_error("reading the HAVS frame back");
+    st.readback_ms = ms_since(t0);
+
+    out.image = Image(width, height);
+    if (diagnostics_) {
+        out.fragments.resize(npix);
+        out.max_held.resize(npix);
+        out.ordering_errors.resize(npix);
+    }
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(x);
+            const int j = height - 1 - y;
+            float* px = out.image.pixel(x, j);
+            for (int c = 0; c < 4; ++c) px[c] = colour[4 * p + std::size_t(c)];
+            if (!diagnostics_) continue;
+            const std::size_t q = std::size_t(j) * std::size_t(width) + std::size_t(x);
+            const uint32_t frags = uint32_t(diag[4 * p]), held = uint32_t(diag[4 * p + 1]);
+            out.fragments[q] = frags;
+            out.max_held[q] = held;
+            out.ordering_errors[q] = uint32_t(diag[4 * p + 2]);
+            st.fragments += frags;
+            st.ordering_errors += out.ordering_errors[q];
+            st.max_fragments = std::max(st.max_fragments, frags);
+            st.max_held = std::max(st.max_held, held);
+        }
+    return out;
+}
+
+}  // namespace uvr::gpu

@@ -1,0 +1,98 @@
+// HAVS's CPU stage, shared by the emulated driver (havs.cpp) and the GL driver (gl_havs.cpp), so that both draw the
+// same faces in the same order with the same constants:
+//   - once per mesh (HavsMesh): float vertex positions (the vertex buffer), normalized scalars, the unique faces with
+//     their boundary marks, the longest edge, the pre-integration table;
+//   - once per frame (setup_havs_frame): the faces sorted front to back (face_sort), every vertex through the vertex
+//     stage (havs_vertex: float clip -> window coordinates as llvmpipe's draw module computes them, and the double
+//     geometry of the fragment stage), the frame's constants (HavsFrameConstants);
+//   - once per face drawn (havs_face_constants): the flat per-face constants (HavsFace) in double, rounded once.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "gpu/havs_fragment.h"
+#include "gpu/havs_vertex.h"
+#include "gpu/preintegration_table.h"
+#include "gpu/rasterize.h"
+#include "reference/camera.h"
+#include "reference/mesh.h"
+#include "reference/segment_integral.h"
+#include "reference/topology.h"
+
+namespace uvr::gpu {
+
+enum class SegmentMode { table, exact };  // --segment: the pre-integrated table, or the exact integral (emulation only)
+enum class GapMode { exact, maxgap };     // --gaps: exit faces marked (exact), or VTK's maximum-gap heuristic
+
+struct HavsOptions {
+    int k = 6;
+    SegmentMode segment = SegmentMode::table;
+    GapMode gaps = GapMode::exact;
+    float threshold = 0.99f;  // the opacity kill; 1 switches early termination off
+    int table_size = 128;     // texels along each of the table's three axes
+    TexelFormat table_format = TexelFormat::f32;
+    double table_max_length = 0.0;  // 0: the mesh's longest edge (no segment inside one cell is longer)
+    TextureFilter filter = TextureFilter::linear;
+};
+
+// What the CPU stage keeps of the mesh between frames.
+class HavsMesh {
+public:
+    // Throws InputError when an option is out of range (k is checked by each driver against its own limit).
+    HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
+             const HavsOptions& options);
+
+    const TetMesh& mesh() const { return mesh_; }
+    const HavsOptions& options() const { return options_; }  // table_max_length filled in
+    const SegmentIntegrator& integrator() const { return integrator_; }
+    const Range& range() const { return range_; }
+    double longest_edge() const { return longest_edge_; }
+    const std::vector<glm::vec3>& points_f() const { return points_f_; }
+    const std::vector<uint32_t>& faces() const { return faces_; }  // 3 point indices per unique face
+    std::size_t face_count() const { return faces_.size() / 3; }
+    const PreintegrationTable* table() const { return table_.get(); }  // null with --segment exact
+    double table_ms() const { return table_ms_; }
+
+    // The normalized scalar of point i and whether face f can be an exit face (exact gaps only).
+    double scalar_n(std::size_t i) const { return scalar_n_[i]; }
+    bool exit_capable(std::size_t f) const { return boundary_[f] != 0; }
+
+private:
+    const TetMesh& mesh_;
+    HavsOptions options_;
+    SegmentIntegrator integrator_;
+    Range range_;
+    double longest_edge_ = 0.0;
+    std::vector<glm::vec3> points_f_;
+    std::vector<double> scalar_n_;
+    std::vector<uint32_t> faces_;
+    std::vector<uint8_t> boundary_;
+    std::unique_ptr<PreintegrationTable> table_;
+    double table_ms_ = 0.0;
+};
+
+// One frame's CPU work.
+struct HavsFrameSetup {
+    Camera camera;
+    int width = 0, height = 0;
+    ViewSetup view;
+    std::vector<uint32_t> order;       // face indices, front to back
+    std::vector<WindowCoord> win;      // per point: what the rasterizer receives (float pipeline, FBO setup space)
+    std::vector<glm::dvec3> win_d;     // per point: x, y, 1 / w in double (the fragment stage's geometry)
+    HavsFrameConstants constants;
+    double sort_ms = 0.0, vertex_ms = 0.0;
+};
+
+// Sorts the faces and runs the vertex stage. Throws InputError when the camera is inside the mesh's bounds.
+HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& camera, int width, int height);
+
+// Face f's flat constants. `side` is -1 when f can be an exit face (exact gaps): each driver keeps it only where the
+// rasterizer sees the face back-facing (the emulation from its setup's facing, the shader from gl_FrontFacing), and
+// sets it to +1 otherwise.
+HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t f);
+
+}  // namespace uvr::gpu

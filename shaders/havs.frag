@@ -1,0 +1,55 @@
+// HAVS's two passes on the GPU: the GLSL side of gpu/havs.cpp (the emulated driver) and gpu/gl_havs.cpp (the GL
+// driver). havs_fragment.frag is compiled in front of this file; the prelude defines
+//   HAVS_K             the number of stored entries
+//   HAVS_TARGETS       the k-buffer's colour attachments, (HAVS_K + 1) / 2: two entries (x, y) a texel, as in the seed
+//   HAVS_PASS_FLUSH    for the flush pass (a full-screen triangle); absent for the geometry pass (the sorted faces)
+//   HAVS_DIAGNOSTICS   when the per-pixel diagnostics go to one more attachment
+//
+// Read-modify-write of the k-buffer. The seed reads its k-buffer as textures bound to the very targets it renders
+// into, which GL leaves undefined once two fragments of one draw hit the same pixel. Here every attachment is an
+// `inout` output of GL_EXT_shader_framebuffer_fetch (coherent, not the _non_coherent variant): a fragment reads what
+// the previous fragment on its pixel wrote, in primitive order, which GL guarantees for framebuffer operations. So one
+// draw call takes all faces in the CPU's sorted order and each pixel sees its fragments exactly in that order, as the
+// emulation applies them. A discarded fragment (the opacity kill) writes nothing to any attachment.
+
+layout(location = 0) inout vec4 havs_color;
+layout(location = 1) inout vec4 havs_entries[HAVS_TARGETS];
+#ifdef HAVS_DIAGNOSTICS
+layout(location = HAVS_TARGETS + 1) inout vec4 havs_diagnostics;  // havs_diag of havs_fragment.frag
+#endif
+
+vec4 havs_shade(float u_front, float u_back, float t_z, float seg_length)
+{
+    return havs_table_lookup(u_front, u_back, t_z);
+}
+
+void main()
+{
+    vec2 a[HAVS_K];
+    for (int i = 0; i < HAVS_K; ++i) a[i] = (i % 2 == 0) ? havs_entries[i / 2].xy : havs_entries[i / 2].zw;
+    vec4 fb = havs_color;
+#ifdef HAVS_DIAGNOSTICS
+    havs_diag = havs_diagnostics;
+#endif
+#ifdef HAVS_PASS_FLUSH
+    // kFlushFragment: (-1, +inf).
+    vec2 a0 = vec2(-1.0, uintBitsToFloat(0x7f800000u));
+#else
+    // The face's constants, in sorted order (gl_PrimitiveID counts the draw's triangles). A boundary face that can be
+    // an exit face arrives with side -1 and stays one only when the rasterizer sees it back-facing.
+    HavsFace f = havs_faces[gl_PrimitiveID];
+    if (gl_FrontFacing) f.side = 1.0;
+    vec2 a0 = havs_fragment_entry(f, ivec2(gl_FragCoord.xy));
+#endif
+    if (!havs_kbuffer(a0, a, fb)) discard;
+    havs_color = fb;
+    for (int t = 0; t < HAVS_TARGETS; ++t) {
+        vec4 texel = havs_entries[t];
+        texel.xy = a[2 * t];
+        if (2 * t + 1 < HAVS_K) texel.zw = a[2 * t + 1];
+        havs_entries[t] = texel;
+    }
+#ifdef HAVS_DIAGNOSTICS
+    havs_diagnostics = havs_diag;
+#endif
+}
