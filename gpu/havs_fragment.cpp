@@ -65,39 +65,46 @@ bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm
     // Find the entry with the smallest distance (r0); the others go to r1..rk. The seed's CMP: on t < 0 the running
     // minimum stays; otherwise (ties included) the stored entry becomes the minimum and the running one moves on, so
     // on a tie the entry already in the buffer is composited first.
-    KEntry r[kMaxK + 1];
-    r[0] = a0;
+    // r is scratch for k + 1 entries: plain floats, so that no call pays for initializing kMaxK + 1 of them.
+    float rx[kMaxK + 1], ry[kMaxK + 1];
+    rx[0] = a0.x;
+    ry[0] = a0.y;
     for (int i = 1; i <= k; ++i) {
-        const float t = r[0].y - a[i - 1].y;
+        const float t = ry[0] - a[i - 1].y;
         if (t < 0.0f) {
-            r[i] = a[i - 1];
+            rx[i] = a[i - 1].x;
+            ry[i] = a[i - 1].y;
         } else {
-            r[i] = r[0];
-            r[0] = a[i - 1];
+            rx[i] = rx[0];
+            ry[i] = ry[0];
+            rx[0] = a[i - 1].x;
+            ry[0] = a[i - 1].y;
         }
     }
+    const auto r = [&](int i) { return KEntry{rx[i], ry[i]}; };
     // The second smallest (r7 of the seed) among r1..rk, by the same chain; it stays in the buffer.
-    KEntry second = r[1];
+    KEntry second = r(1);
     for (int i = 2; i <= k; ++i) {
-        const float t = second.y - r[i].y;
-        if (!(t < 0.0f)) second = r[i];
+        const float t = second.y - ry[i];
+        if (!(t < 0.0f)) second = r(i);
     }
     // The segment from r0 to r7: table coordinates (MAD for t_z, unfused), then the lookup; nullified when r0's
     // scalar is negative (a gap, an empty or a flush entry) and, with --gaps maxgap, when it is longer than the gap.
-    const float length = second.y - r[0].y;
+    const KEntry front = r(0);
+    const float length = second.y - front.y;
     glm::vec4 c(0.0f);
     // A segment that ends on a flush fragment (distance +inf) never lies inside the mesh: it starts on the last
     // fragment of the pixel, which is an exit face unless fragments at one distance (a ray exactly through a surface
     // vertex) were ordered exit-first by rounding.
-    const bool nullified = r[0].x < 0.0f || std::isinf(second.y) || (fc.max_gap > 0.0f && length > fc.max_gap);
+    const bool nullified = front.x < 0.0f || std::isinf(second.y) || (fc.max_gap > 0.0f && length > fc.max_gap);
     if (!nullified) {
         const float t_z = length * fc.length_scale + fc.length_bias;
-        c = shade(std::fabs(r[0].x) - 1.0f, std::fabs(second.x) - 1.0f, t_z, length);
+        c = shade(std::fabs(front.x) - 1.0f, std::fabs(second.x) - 1.0f, t_z, length);
     }
     // Ordering: in front-to-back order each segment starts where the previous one ended. A front nearer than the
     // previous segment's back means a fragment arrived after the segment across it was composited.
-    if (diag && real_entry(r[0])) {
-        if (r[0].y < diag->last_back) ++diag->ordering_errors;
+    if (diag && real_entry(front)) {
+        if (front.y < diag->last_back) ++diag->ordering_errors;
         if (real_entry(second)) diag->last_back = std::fmax(diag->last_back, second.y);
     }
     // Front to back: fb = c * (1 - fb.a) + fb, per channel (MAD, unfused).
@@ -107,8 +114,8 @@ bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm
     // Write back r1..rk.
     uint32_t held = 0;
     for (int i = 1; i <= k; ++i) {
-        a[i - 1] = r[i];
-        held += real_entry(r[i]) ? 1u : 0u;
+        a[i - 1] = r(i);
+        held += real_entry(a[i - 1]) ? 1u : 0u;
     }
     if (diag && held > diag->max_held) diag->max_held = held;
     return true;

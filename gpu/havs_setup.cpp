@@ -76,10 +76,12 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
     const auto& pts = hm.points_f();
     fs.win.resize(pts.size());
     fs.win_d.resize(pts.size());
+    fs.eye.resize(pts.size());
     tbb::parallel_for(std::size_t(0), pts.size(), [&](std::size_t i) {
         const auto clip = clip_position(fs.view.mvp, pts[i]);
         fs.win[i] = viewport_transform(clip.data(), fbuf);
         window_position_d(fs.view, hm.mesh().points[i], width, height, fs.win_d[i].x, fs.win_d[i].y, fs.win_d[i].z);
+        fs.eye[i] = eye_position(cam, hm.mesh().points[i]);
     });
 
     HavsFrameConstants& fc = fs.constants;
@@ -109,7 +111,7 @@ HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint3
     const uint32_t* v = &hm.faces()[3 * std::size_t(f)];
     HavsFace face;
     for (int j = 0; j < 3; ++j) {
-        face.q[j] = eye_position(fs.camera, hm.mesh().points[v[j]]);
+        face.q[j] = fs.eye[v[j]];
         face.v[j] = glm::dvec2(fs.win_d[v[j]].x, fs.win_d[v[j]].y);
         face.fx[j] = snap_to_fixed(fs.win[v[j]].x);
         face.fy[j] = snap_to_fixed(fs.win[v[j]].y);

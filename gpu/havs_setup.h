@@ -83,6 +83,7 @@ struct HavsFrameSetup {
     std::vector<uint32_t> order;       // face indices, front to back
     std::vector<WindowCoord> win;      // per point: what the rasterizer receives (float pipeline, FBO setup space)
     std::vector<glm::dvec3> win_d;     // per point: x, y, 1 / w in double (the fragment stage's geometry)
+    std::vector<glm::dvec3> eye;       // per point: eye-space position in double (eye_position)
     HavsFrameConstants constants;
     double sort_ms = 0.0, vertex_ms = 0.0;
 };

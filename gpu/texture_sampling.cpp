@@ -30,7 +30,7 @@ float round_half_even(float x)
 // The channel value llvmpipe's SoA fetch produces (lp_build_fetch_rgba_soa -> lp_build_extract_soa_chan): floats
 // are bit casts, unorm channels go through lp_build_unsigned_norm_to_float. Missing channels of a 1-channel format
 // read as 0 (green, blue) and 1 (alpha), the format swizzle (r, 0, 0, 1).
-float fetch_channel(const TextureView& tex, std::size_t texel, int c)
+inline float fetch_channel(const TextureView& tex, std::size_t texel, int c)
 {
     if (c >= tex.channels) return c == 3 ? 1.0f : 0.0f;
     const std::size_t i = texel * std::size_t(tex.channels) + std::size_t(c);
@@ -77,19 +77,28 @@ glm::vec4 sample_linear_soa(const TextureView& tex, const float* coord, int dims
     const LinearTaps tx = wrap_linear_soa(coord[0], tex.width);
     const LinearTaps ty = wrap_linear_soa(coord[1], tex.height);
     const LinearTaps tz = dims == 3 ? wrap_linear_soa(coord[2], tex.depth) : LinearTaps{0, 0, 0.0f};
+    // The texels of the two slices (v_yx of slice z), computed once for the four channels.
+    std::size_t texel[2][4];
+    for (int s = 0; s < (dims == 3 ? 2 : 1); ++s) {
+        const int z = s == 0 ? tz.i0 : tz.i1;
+        texel[s][0] = texel_index(tex, tx.i0, ty.i0, z);
+        texel[s][1] = texel_index(tex, tx.i1, ty.i0, z);
+        texel[s][2] = texel_index(tex, tx.i0, ty.i1, z);
+        texel[s][3] = texel_index(tex, tx.i1, ty.i1, z);
+    }
     glm::vec4 out;
     for (int c = 0; c < 4; ++c) {
-        auto slice = [&](int z) {
-            const float v00 = fetch_channel(tex, texel_index(tex, tx.i0, ty.i0, z), c);
-            const float v01 = fetch_channel(tex, texel_index(tex, tx.i1, ty.i0, z), c);
-            const float v10 = fetch_channel(tex, texel_index(tex, tx.i0, ty.i1, z), c);
-            const float v11 = fetch_channel(tex, texel_index(tex, tx.i1, ty.i1, z), c);
+        auto slice = [&](int s) {
+            const float v00 = fetch_channel(tex, texel[s][0], c);
+            const float v01 = fetch_channel(tex, texel[s][1], c);
+            const float v10 = fetch_channel(tex, texel[s][2], c);
+            const float v11 = fetch_channel(tex, texel[s][3], c);
             const float r0 = lerp_f32(tx.weight, v00, v01, cpu.fma);
             const float r1 = lerp_f32(tx.weight, v10, v11, cpu.fma);
             return lerp_f32(ty.weight, r0, r1, cpu.fma);
         };
-        const float c0 = slice(tz.i0);
-        out[c] = dims == 3 ? lerp_f32(tz.weight, c0, slice(tz.i1), cpu.fma) : c0;
+        const float c0 = slice(0);
+        out[c] = dims == 3 ? lerp_f32(tz.weight, c0, slice(1), cpu.fma) : c0;
     }
     return out;
 }
