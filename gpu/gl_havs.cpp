@@ -228,41 +228,26 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     // Read back (exact for float attachments), flipping GL rows to SPEC rows.
     t0 = Clock::now();
     const std::size_t npix = std::size_t(width) * std::size_t(height);
-    std::vector<float> colour(4 * npix), diag;
+    std::vector<glm::vec4> colour(npix), diag;
     gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
     gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
     gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, colour.data());
     if (diagnostics_) {
-        diag.resize(4 * npix);
+        diag.resize(npix);
         gl.ReadBuffer(GLenum(GL_COLOR_ATTACHMENT0 + 1 + targets));
         gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, diag.data());
     }
     ctx_.check_error("reading the HAVS frame back");
     st.readback_ms = ms_since(t0);
 
-    out.image = Image(width, height);
+    // The diagnostics attachment holds havs_diag: counts as exact floats.
+    std::vector<KBufferDiagnostics> counts;
     if (diagnostics_) {
-        out.fragments.resize(npix);
-        out.max_held.resize(npix);
-        out.ordering_errors.resize(npix);
+        counts.resize(npix);
+        for (std::size_t p = 0; p < npix; ++p)
+            counts[p] = {uint32_t(diag[p].x), uint32_t(diag[p].y), uint32_t(diag[p].z), diag[p].w};
     }
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(x);
-            const int j = height - 1 - y;
-            float* px = out.image.pixel(x, j);
-            for (int c = 0; c < 4; ++c) px[c] = colour[4 * p + std::size_t(c)];
-            if (!diagnostics_) continue;
-            const std::size_t q = std::size_t(j) * std::size_t(width) + std::size_t(x);
-            const uint32_t frags = uint32_t(diag[4 * p]), held = uint32_t(diag[4 * p + 1]);
-            out.fragments[q] = frags;
-            out.max_held[q] = held;
-            out.ordering_errors[q] = uint32_t(diag[4 * p + 2]);
-            st.fragments += frags;
-            st.ordering_errors += out.ordering_errors[q];
-            st.max_fragments = std::max(st.max_fragments, frags);
-            st.max_held = std::max(st.max_held, held);
-        }
+    store_havs_frame(colour, diagnostics_ ? &counts : nullptr, width, height, out);
     return out;
 }
 

@@ -29,6 +29,36 @@ const HavsOptions& checked_k(const HavsOptions& options)
 
 }  // namespace
 
+void store_havs_frame(const std::vector<glm::vec4>& colour, const std::vector<KBufferDiagnostics>* diag, int width,
+                      int height, HavsFrame& out)
+{
+    const std::size_t npix = std::size_t(width) * std::size_t(height);
+    out.image = Image(width, height);
+    if (diag) {
+        out.fragments.resize(npix);
+        out.max_held.resize(npix);
+        out.ordering_errors.resize(npix);
+    }
+    HavsStats& st = out.stats;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(x);
+            const int j = height - 1 - y;
+            float* px = out.image.pixel(x, j);
+            for (int c = 0; c < 4; ++c) px[c] = colour[p][c];
+            if (!diag) continue;
+            const KBufferDiagnostics& d = (*diag)[p];
+            const std::size_t q = std::size_t(j) * std::size_t(width) + std::size_t(x);
+            out.fragments[q] = d.fragments;
+            out.max_held[q] = d.max_held;
+            out.ordering_errors[q] = d.ordering_errors;
+            st.fragments += d.fragments;
+            st.ordering_errors += d.ordering_errors;
+            st.max_fragments = std::max(st.max_fragments, d.fragments);
+            st.max_held = std::max(st.max_held, d.max_held);
+        }
+}
+
 HavsRenderer::HavsRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
                            const TransferFunction& tf, const HavsOptions& options)
     : mesh_(mesh, topo, field, tf, checked_k(options))
@@ -139,26 +169,7 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     });
     st.flush_ms = ms_since(t0);
 
-    // Read back, flipping GL rows to SPEC rows.
-    out.image = Image(width, height);
-    out.fragments.resize(npix);
-    out.max_held.resize(npix);
-    out.ordering_errors.resize(npix);
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(x);
-            const int j = height - 1 - y;
-            float* px = out.image.pixel(x, j);
-            for (int c = 0; c < 4; ++c) px[c] = fb[p][c];
-            const std::size_t q = std::size_t(j) * std::size_t(width) + std::size_t(x);
-            out.fragments[q] = diag[p].fragments;
-            out.max_held[q] = diag[p].max_held;
-            out.ordering_errors[q] = diag[p].ordering_errors;
-            st.fragments += diag[p].fragments;
-            st.ordering_errors += diag[p].ordering_errors;
-            st.max_fragments = std::max(st.max_fragments, diag[p].fragments);
-            st.max_held = std::max(st.max_held, diag[p].max_held);
-        }
+    store_havs_frame(fb, &diag, width, height, out);
     return out;
 }
 
