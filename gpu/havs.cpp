@@ -141,10 +141,10 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
             if (ts.empty()) continue;
             // Flat per-face constants, in double, rounded once (what the CPU uploads). A boundary face is oriented
             // outward, so it is an exit face when the rasterizer sees it back-facing (clockwise in window coordinates:
-            // gl_FrontFacing false). The rasterizer's facing comes from the snapped area, so it agrees with the
+            // gl_FrontFacing false) and an entry face otherwise. The rasterizer's facing comes from the snapped area, so it agrees with the
             // coverage the fragments come from even for slivers.
             HavsFace face = havs_face_constants(mesh_, fs, f);
-            if (ts.facing != Facing::back) face.side = 1.0f;
+            if (face.side == kSideExit && ts.facing != Facing::back) face.side = kSideEntry;
             const int ya = std::max(ts.y0, py0), yb = std::min(ts.y1, py1);
             for (int py = ya; py <= yb; ++py) {
                 int first = 0, last = -1;

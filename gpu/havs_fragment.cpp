@@ -54,6 +54,12 @@ KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& f, int 
 
 namespace {
 bool real_entry(const KEntry& e) { return e.y > 0.0f && e.y < __builtin_inff(); }
+// The normalized scalar of an entry (see the entry encoding in havs_fragment.h).
+float decode_scalar(float x)
+{
+    const float m = std::fabs(x);
+    return m < kSideEntry ? m - 1.0f : m * 0.25f - 1.0f;
+}
 }  // namespace
 
 bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& fb, const SegmentShader& shade,
@@ -83,11 +89,12 @@ bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm
     }
     const auto r = [&](int i) { return KEntry{rx[i], ry[i]}; };
     // The second smallest (r7 of the seed) among r1..rk, by the same chain; it stays in the buffer.
-    KEntry second = r(1);
+    int second_i = 1;
     for (int i = 2; i <= k; ++i) {
-        const float t = second.y - ry[i];
-        if (!(t < 0.0f)) second = r(i);
+        const float t = ry[second_i] - ry[i];
+        if (!(t < 0.0f)) second_i = i;
     }
+    const KEntry second = r(second_i);
     // The segment from r0 to r7: table coordinates (MAD for t_z, unfused), then the lookup; nullified when r0's
     // scalar is negative (a gap, an empty or a flush entry) and, with --gaps maxgap, when it is longer than the gap.
     const KEntry front = r(0);
@@ -95,12 +102,25 @@ bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm
     glm::vec4 c(0.0f);
     // A segment that ends on a flush fragment (distance +inf) never lies inside the mesh: it starts on the last
     // fragment of the pixel, which is an exit face unless fragments at one distance (a ray exactly through a surface
-    // vertex) were ordered exit-first by rounding.
-    const bool nullified = front.x < 0.0f || std::isinf(second.y) || (fc.max_gap > 0.0f && length > fc.max_gap);
+    // vertex) were ordered exit-first by rounding. Nor does one that ends on an entry face (exact gaps): the ray is
+    // outside the mesh before it enters. Such a segment's front is an exit face (nullified anyway) or a fragment that
+    // rasterization put in front of the entry face: an interior face sharing an edge with it, covering a pixel just
+    // past that edge through snapping and extrapolated at a grazing angle (0.0027 units in front on an Oxygen Post
+    // pixel, docs/havs.md).
+    const bool nullified = front.x < 0.0f || std::isinf(second.y) || second.x >= kSideEntry ||
+                           (fc.max_gap > 0.0f && length > fc.max_gap);
     if (!nullified) {
         const float t_z = length * fc.length_scale + fc.length_bias;
-        c = shade(std::fabs(front.x) - 1.0f, std::fabs(second.x) - 1.0f, t_z, length);
+        c = shade(decode_scalar(front.x), decode_scalar(second.x), t_z, length);
     }
+    // Exact gaps: behind an exit face the ray is outside the mesh until it meets an entry face, so an interior face's
+    // fragment right behind an exit lies where no interior face is. Rasterization puts one there: a pixel just past
+    // the edge where interior faces meet the exit face is covered through snapping, and their planes, extrapolated
+    // at a grazing angle, place the fragment a little behind the exit (2e-5 and 3e-4 units on a torus pixel,
+    // docs/havs.md), which would composite a segment outside the mesh. Such an entry is marked an exit in the buffer,
+    // so that the segment starting on it is a gap too.
+    if (real_entry(front) && front.x < 0.0f && real_entry(second) && second.x > 0.0f && second.x < kSideEntry)
+        rx[second_i] = -rx[second_i];
     // Ordering: in front-to-back order each segment starts where the previous one ended. A front nearer than the
     // previous segment's back means a fragment arrived after the segment across it was composited.
     if (diag && real_entry(front)) {

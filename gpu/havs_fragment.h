@@ -25,10 +25,13 @@
 //     compositing, and the write-back of the remaining entries.
 //
 // Entry encoding. An entry is (x, y) = (encoded scalar, distance). x = side * (1 + s_n): s_n in [0, 1] the
-// normalized scalar, side -1 for a boundary face the ray leaves the mesh through (exact gaps: a segment that starts
-// there is a gap and is nullified, as the seed nullifies entries with x < 0), +1 otherwise. Decoding |x| - 1 is exact
-// (Sterbenz), so the back scalar of a segment that ends on the boundary stays exact; 1 + s_n rounds s_n to 2^-23 of
-// the range. An empty entry is (-1, 0): it is selected first, and its segment nullified, so the first k fragments of a
+// normalized scalar, side kSideExit (-1) for a boundary face the ray leaves the mesh through (exact gaps: a segment
+// that starts there is a gap and is nullified, as the seed nullifies entries with x < 0), kSideEntry (4) for a
+// boundary face the ray enters through (exact gaps), kSideInterior (1) otherwise. Decoding: |x| - 1, or
+// |x| * 0.25 - 1 for |x| >= 4; both exact (Sterbenz; a power-of-two scale), and 4 (1 + s_n) rounds exactly as 1 + s_n,
+// so an entry face's scalar decodes to the same bits as an interior face's. 1 + s_n rounds s_n to 2^-23 of the range.
+// The entry mark lets the program tell, behind an exit, an interior fragment (an artefact: see havs_kbuffer) from
+// the next entry into the mesh. An empty entry is (-1, 0): it is selected first, and its segment nullified, so the first k fragments of a
 // pixel fill the buffer. A flush fragment is (-1, +inf); a segment that ends on one is nullified too (see
 // havs_kbuffer).
 #pragma once
@@ -41,6 +44,8 @@
 #include <glm/vec4.hpp>
 
 namespace uvr::gpu {
+
+inline constexpr float kSideExit = -1.0f, kSideInterior = 1.0f, kSideEntry = 4.0f;
 
 struct KEntry {
     float x = -1.0f;  // encoded scalar
@@ -65,7 +70,7 @@ struct HavsFace {
     int32_t fx[3] = {0, 0, 0}, fy[3] = {0, 0, 0};  // the rasterizer's snapped vertices (viewport_transform, 24.8)
     double inv_w[3] = {0, 0, 0};          // 1 / clip w of each vertex
     double s[3] = {0, 0, 0};              // normalized scalar of each vertex, in [0, 1]
-    float side = 1.0f;                    // -1: a boundary face the ray leaves the mesh through (exact gaps)
+    float side = 1.0f;                    // kSideExit, kSideInterior or kSideEntry (see the entry encoding)
 };
 
 // How far outside the triangle a pixel centre may lie and still take the exact weights, as a fraction of the

@@ -118,7 +118,7 @@ HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint3
         face.inv_w[j] = fs.win_d[v[j]].z;
         face.s[j] = hm.scalar_n(v[j]);
     }
-    face.side = hm.exit_capable(f) ? -1.0f : 1.0f;
+    face.side = hm.exit_capable(f) ? kSideExit : kSideInterior;
     return face;
 }
 

@@ -91,9 +91,9 @@ struct HavsFrameSetup {
 // Sorts the faces and runs the vertex stage. Throws InputError when the camera is inside the mesh's bounds.
 HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& camera, int width, int height);
 
-// Face f's flat constants. `side` is -1 when f can be an exit face (exact gaps): each driver keeps it only where the
-// rasterizer sees the face back-facing (the emulation from its setup's facing, the shader from gl_FrontFacing), and
-// sets it to +1 otherwise.
+// Face f's flat constants. `side` is kSideExit when f is a boundary face (exact gaps): each driver keeps it where the
+// rasterizer sees the face back-facing and makes it kSideEntry otherwise (the emulation from its setup's facing, the
+// shader from gl_FrontFacing).
 HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t f);
 
 }  // namespace uvr::gpu

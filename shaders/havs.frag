@@ -35,10 +35,10 @@ void main()
     // kFlushFragment: (-1, +inf).
     vec2 a0 = vec2(-1.0, uintBitsToFloat(0x7f800000u));
 #else
-    // The face's constants, in sorted order (gl_PrimitiveID counts the draw's triangles). A boundary face that can be
-    // an exit face arrives with side -1 and stays one only when the rasterizer sees it back-facing.
+    // The face's constants, in sorted order (gl_PrimitiveID counts the draw's triangles). A boundary face arrives with
+    // side -1 (an exit) and stays one only when the rasterizer sees it back-facing; front-facing, it is an entry.
     HavsFace f = havs_faces[gl_PrimitiveID];
-    if (gl_FrontFacing) f.side = 1.0;
+    if (f.side < 0.0 && gl_FrontFacing) f.side = havs_side_entry;
     vec2 a0 = havs_fragment_entry(f, ivec2(gl_FragCoord.xy));
 #endif
     if (!havs_kbuffer(a0, a, fb)) discard;

@@ -30,7 +30,7 @@ struct HavsFace {
     double s[3];      // normalized scalars
     int fx[3];        // the rasterizer's snapped vertices (24.8 fixed point)
     int fy[3];
-    float side;       // -1: an exit face (exact gaps)
+    float side;       // -1 exit, 1 interior, 4 entry face (kSideExit, kSideInterior, kSideEntry)
     float pad;
 };
 layout(std430, binding = 0) readonly buffer HavsFaces { HavsFace havs_faces[]; };
@@ -105,12 +105,24 @@ vec4 havs_table_lookup(float u_front, float u_back, float t_z)
     return texture(havs_table, vec3(u_front, u_back, t_z));
 }
 
+// kSideEntry of gpu/havs_fragment.h: the side of an entry face; |x| >= 4 marks its entries.
+const float havs_side_entry = 4.0;
+
+bool havs_real_entry(vec2 e) { return e.y > 0.0 && e.y < uintBitsToFloat(0x7f800000u); }
+
+// The normalized scalar of an entry: |x| - 1, or |x| * 0.25 - 1 for an entry face's.
+float havs_decode_scalar(float x)
+{
+    precise float m = abs(x);
+    precise float u = m < havs_side_entry ? m - 1.0 : m * 0.25 - 1.0;
+    return u;
+}
+
 #ifdef HAVS_DIAGNOSTICS
 // KBufferDiagnostics of the emulation, as floats (counts are exact below 2^24): fragments, most entries held at once,
 // ordering errors, the last composited segment's back distance. The pass loads it before havs_kbuffer and stores it
 // after.
 vec4 havs_diag;
-bool havs_real_entry(vec2 e) { return e.y > 0.0 && e.y < uintBitsToFloat(0x7f800000u); }
 #endif
 
 // havs_kbuffer: one run of the program on one pixel. a[] holds the k stored entries (x, y) and is overwritten with
@@ -137,21 +149,24 @@ bool havs_kbuffer(vec2 a0, inout vec2 a[HAVS_K], inout vec4 fb)
             r[0] = a[i - 1];
         }
     }
-    // The second smallest among r1..rk.
-    vec2 second = r[1];
+    // The second smallest among r1..rk, by index (the program may mark it an exit below).
+    int second_i = 1;
     for (int i = 2; i <= HAVS_K; ++i) {
-        precise float t = second.y - r[i].y;
-        if (!(t < 0.0)) second = r[i];
+        precise float t = r[second_i].y - r[i].y;
+        if (!(t < 0.0)) second_i = i;
     }
+    vec2 second = r[second_i];
     precise float seg_length = second.y - r[0].y;
     vec4 c = vec4(0.0);
-    precise bool nullified = r[0].x < 0.0 || isinf(second.y) || (havs_max_gap > 0.0 && seg_length > havs_max_gap);
+    precise bool nullified = r[0].x < 0.0 || isinf(second.y) || second.x >= havs_side_entry ||
+                             (havs_max_gap > 0.0 && seg_length > havs_max_gap);
     if (!nullified) {
         precise float t_z = seg_length * havs_length_scale + havs_length_bias;
-        precise float u_front = abs(r[0].x) - 1.0;
-        precise float u_back = abs(second.x) - 1.0;
-        c = havs_shade(u_front, u_back, t_z, seg_length);
+        c = havs_shade(havs_decode_scalar(r[0].x), havs_decode_scalar(second.x), t_z, seg_length);
     }
+    // Exact gaps: an interior face's fragment right behind an exit is marked an exit too (havs_fragment.cpp).
+    if (havs_real_entry(r[0]) && r[0].x < 0.0 && havs_real_entry(second) && second.x > 0.0 && second.x < havs_side_entry)
+        r[second_i].x = -r[second_i].x;
 #ifdef HAVS_DIAGNOSTICS
     if (havs_real_entry(r[0])) {
         if (r[0].y < havs_diag.w) havs_diag.z += 1.0;

@@ -130,7 +130,13 @@ struct KBufferGen {
         }
     }
     float scalar() { return pick(16) == 0 ? float(pick(2)) : uni(0.0f, 1.0f); }
-    KEntry real() { return {(pick(5) == 0 ? -1.0f : 1.0f) * (1.0f + scalar()), distance()}; }
+    // Exit (1 in 5), entry (1 in 5) and interior faces' entries.
+    float side()
+    {
+        const int p = pick(5);
+        return p == 0 ? kSideExit : p == 1 ? kSideEntry : kSideInterior;
+    }
+    KEntry real() { return {side() * (1.0f + scalar()), distance()}; }
     KEntry stored()
     {
         switch (pick(8)) {
@@ -295,7 +301,7 @@ struct EntryGen {
             f.fy[j] = snap_to_fixed(wv[j].y);
             f.s[j] = pick(8) == 0 ? double(pick(2)) : uni(0.0, 1.0);
         }
-        f.side = pick(3) == 0 ? -1.0f : 1.0f;
+        f.side = pick(3) == 0 ? kSideExit : pick(2) == 0 ? kSideEntry : kSideInterior;
         const Framebuffer fbuf{width, height, RenderTarget::fbo};
         std::vector<glm::ivec2> covered;
         rasterize_triangle(wv, fbuf, [&](int x, int y) { covered.push_back({x, y}); });
