@@ -149,13 +149,17 @@ bool havs_kbuffer(vec2 a0, inout vec2 a[HAVS_K], inout vec4 fb)
             r[0] = a[i - 1];
         }
     }
-    // The second smallest among r1..rk, by index (the program may mark it an exit below).
+    // The second smallest among r1..rk, and which it is (the program may mark it an exit below). Arrays are indexed
+    // only by loop counters, which the compiler unrolls: a dynamic index costs llvmpipe a memory round trip per lane.
+    vec2 second = r[1];
     int second_i = 1;
     for (int i = 2; i <= HAVS_K; ++i) {
-        precise float t = r[second_i].y - r[i].y;
-        if (!(t < 0.0)) second_i = i;
+        precise float t = second.y - r[i].y;
+        if (!(t < 0.0)) {
+            second = r[i];
+            second_i = i;
+        }
     }
-    vec2 second = r[second_i];
     precise float seg_length = second.y - r[0].y;
     vec4 c = vec4(0.0);
     precise bool nullified = r[0].x < 0.0 || isinf(second.y) || second.x >= havs_side_entry ||
@@ -165,8 +169,8 @@ bool havs_kbuffer(vec2 a0, inout vec2 a[HAVS_K], inout vec4 fb)
         c = havs_shade(havs_decode_scalar(r[0].x), havs_decode_scalar(second.x), t_z, seg_length);
     }
     // Exact gaps: an interior face's fragment right behind an exit is marked an exit too (havs_fragment.cpp).
-    if (havs_real_entry(r[0]) && r[0].x < 0.0 && havs_real_entry(second) && second.x > 0.0 && second.x < havs_side_entry)
-        r[second_i].x = -r[second_i].x;
+    bool mark = havs_real_entry(r[0]) && r[0].x < 0.0 && havs_real_entry(second) && second.x > 0.0 &&
+                second.x < havs_side_entry;
 #ifdef HAVS_DIAGNOSTICS
     if (havs_real_entry(r[0])) {
         if (r[0].y < havs_diag.w) havs_diag.z += 1.0;
@@ -177,7 +181,7 @@ bool havs_kbuffer(vec2 a0, inout vec2 a[HAVS_K], inout vec4 fb)
     precise float one_minus_a = 1.0 - fb.a;
     precise vec4 composited = c * one_minus_a + fb;
     fb = composited;
-    for (int i = 1; i <= HAVS_K; ++i) a[i - 1] = r[i];
+    for (int i = 1; i <= HAVS_K; ++i) a[i - 1] = (mark && i == second_i) ? vec2(-r[i].x, r[i].y) : r[i];
 #ifdef HAVS_DIAGNOSTICS
     float held = 0.0;
     for (int i = 1; i <= HAVS_K; ++i) held += havs_real_entry(r[i]) ? 1.0 : 0.0;
