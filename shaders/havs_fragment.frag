@@ -4,7 +4,8 @@
 // This file holds the stage's functions, no main(): a pass appends its own main (the harness:
 // havs_fragment_harness.frag), which also defines havs_shade(), the segment lookup. The prelude gpu/gl_context.cpp
 // puts in front carries the pass's defines,
-//   HAVS_K          the number of stored entries, 1 .. (draw buffers - 1) * 2 in a real pass,
+//   HAVS_K            the number of stored entries, 1 .. (draw buffers - 1) * 2 in a real pass,
+//   HAVS_DIAGNOSTICS  (optional) havs_kbuffer also updates havs_diag, the emulation's KBufferDiagnostics,
 // and enables GL_ARB_gpu_shader_int64 (the snapped edge functions are 64-bit integers, as in the emulation).
 //
 // Bit-faithfulness. Every arithmetic result is `precise`: without it a compiler may fuse a multiply and an add,
