@@ -11,6 +11,8 @@
 using uvr::test::CommandResult;
 using uvr::test::data_path;
 using uvr::test::run_uvr;
+using uvr::test::file_contents;
+using uvr::test::TempDir;
 
 namespace {
 
@@ -193,4 +195,42 @@ TEST_CASE("an interrupted sweep resumed from disk gives the same numbers as one 
     const std::string csv = uvr::test::file_contents(tmp.file("b/sweep.csv"));
     CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + 2 * 3 * 2);
     unsetenv("UVR_CACHE_DIR");
+}
+
+TEST_CASE("uvr render --algo havs --backend gl writes the emulation's image and refuses what GL cannot do")
+{
+    TempDir tmp("cli-gl");
+    const std::string scene = "render builtin:torus-small --algo havs --size 48x40 --view 30,20 ";
+    SECTION("the GL image has the emulation's bits, and its diagnostics")
+    {
+        const CommandResult emu = run_uvr(scene + "--backend emu --out '" + tmp.file("emu.npy") + "'");
+        const CommandResult gl =
+            run_uvr(scene + "--backend gl --gl osmesa --json --diagnostics '" + tmp.file("diag") + "' --out '" +
+                    tmp.file("gl.npy") + "'");
+        INFO(emu.err << gl.err);
+        REQUIRE(emu.exit_code == 0);
+        REQUIRE(gl.exit_code == 0);
+        CHECK(file_contents(tmp.file("gl.npy")) == file_contents(tmp.file("emu.npy")));
+        CHECK(gl.out.find("\"backend\": \"gl\"") != std::string::npos);
+        CHECK(gl.out.find("llvmpipe") != std::string::npos);
+        CHECK(std::filesystem::exists(tmp.file("diag/fragments.npy")));
+    }
+    SECTION("refusals: exact segments, diagnostics without a free draw buffer, an unknown platform")
+    {
+        struct Case {
+            std::string args, phrase;
+        };
+        for (const Case& c : {Case{"--backend gl --segment exact", "--segment exact runs only in the emulation"},
+                              Case{"--backend gl --k 14 --diagnostics '" + tmp.file("d") + "'", "needs a free draw buffer"},
+                              Case{"--backend gl --k 15", "--k must be between 1 and 14"},
+                              Case{"--backend gl --gl glx", "--gl must be osmesa or egl"},
+                              Case{"--backend vulkan", "--backend must be emu or gl"}}) {
+            const std::string out = tmp.file("never.npy");
+            const CommandResult r = run_uvr(scene + c.args + " --out '" + out + "'");
+            INFO(c.args << ": " << r.err);
+            CHECK(r.exit_code != 0);
+            CHECK(r.err.find(c.phrase) != std::string::npos);
+            CHECK(!std::filesystem::exists(out));
+        }
+    }
 }
