@@ -1,7 +1,10 @@
-// `uvr sweep MESH --k LIST [--views N] --report DIR`: HAVS's error against the k-buffer size k, per view, split into
-// what the sort costs (exact segment integration) and what the table costs (table against exact at the largest k),
-// with the ordering-error counts; CSV and JSON of every number, plots, and an HTML page. Each (view, k, mode) result
-// is a small JSON file under DIR/runs/, written atomically, so an interrupted sweep resumes from what is on disk.
+// `uvr sweep MESH --k LIST [--views N] [--table-sizes LIST] --report DIR`: HAVS's error against the k-buffer size k,
+// per view, split into what the sort costs (exact segment integration) and what the table costs (table against exact
+// at the largest k), with the ordering-error counts; optionally the table's error against its size; CSV and JSON of
+// every number, plots, and an HTML page. Each run leaves its image (.npy) and its numbers (.json) under DIR/runs/,
+// written atomically, so an interrupted sweep resumes from what is on disk and every number can be checked against
+// the images. The exact-segment runs use the emulation whatever --backend says (a GPU has only the table; the GL frame
+// is bit-identical to the emulated one, docs/gl-backend.md); the table runs use --backend.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -26,6 +29,7 @@ struct SweepArgs {
     SceneOptions scene;
     AlgoOptions algo_options;
     std::string ks = "1,2,4,6,8,12,16";
+    std::string table_sizes;  // empty: no table-size sweep
     int views = 1;
     std::string report;
     bool json = false;
@@ -43,6 +47,22 @@ std::vector<View> sweep_views(int n)
     std::vector<View> v{{0, 0.0, 0.0}};
     for (int i = 1; i < n; ++i) v.push_back({i, 360.0 * i / n, i % 2 ? 25.0 : -25.0});
     return v;
+}
+
+std::vector<int> parse_int_list(const std::string& option, const std::string& list, int lo, int hi)
+{
+    std::vector<int> out;
+    for (const auto& x : split_list(list)) {
+        char* end = nullptr;
+        const long v = std::strtol(x.c_str(), &end, 10);
+        if (*end || v < lo || v > hi)
+            throw InputError("", option + " takes integers from " + std::to_string(lo) + " to " + std::to_string(hi) +
+                                     ", found '" + x + "'");
+        out.push_back(int(v));
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
 }
 
 bool load_json(const std::string& path, nlohmann::json& j)
@@ -66,21 +86,16 @@ void register_sweep(CLI::App& app)
     add_scene_options(*cmd, a->scene);
     add_algo_options(*cmd, a->algo_options, false);
     cmd->add_option("--k", a->ks, "Comma-separated k values")->capture_default_str();
+    cmd->add_option("--table-sizes", a->table_sizes,
+                    "Comma-separated table sizes: the table's error against exact at the largest k, per size");
     cmd->add_option("--views", a->views, "Number of views")->capture_default_str()->check(CLI::Range(1, 64));
     cmd->add_option("--report", a->report, "Directory for sweep.csv, sweep.json, plots, index.html")->required();
     cmd->add_flag("--json", a->json, "Print sweep.json's object on stdout");
     cmd->callback([a] {
-        std::vector<int> ks;
-        for (const auto& x : split_list(a->ks)) {
-            char* end = nullptr;
-            const long k = std::strtol(x.c_str(), &end, 10);
-            if (*end || k < 1 || k > gpu::kMaxK)
-                throw InputError("", "--k takes integers from 1 to " + std::to_string(gpu::kMaxK) + ", found '" + x + "'");
-            ks.push_back(int(k));
-        }
+        const std::vector<int> ks = parse_int_list("--k", a->ks, 1, gpu::kMaxK);
         if (ks.empty()) throw InputError("", "--k is empty");
-        std::sort(ks.begin(), ks.end());
-        ks.erase(std::unique(ks.begin(), ks.end()), ks.end());
+        const std::vector<int> table_sizes = parse_int_list("--table-sizes", a->table_sizes, 2, 1024);
+        havs_options(a->algo_options);  // reject bad options before any work
         const std::string dir = a->report, runs = dir + "/runs";
         std::error_code ec;
         std::filesystem::create_directories(runs, ec);
@@ -95,10 +110,13 @@ void register_sweep(CLI::App& app)
         out["width"] = s.width;
         out["height"] = s.height;
         out["k"] = ks;
+        out["table_sizes"] = table_sizes;
+        out["backend"] = a->algo_options.backend;
         out["rows"] = nlohmann::json::array();
+        out["table_rows"] = nlohmann::json::array();
         out["views"] = nlohmann::json::array();
         ProgressBar bar("sweep");
-        const std::size_t total = views.size() * ks.size() * 2;
+        const std::size_t total = views.size() * (ks.size() * 2 + table_sizes.size());
         std::size_t done = 0, resumed = 0;
         double floor_sum = 0.0;
         for (const View& v : views) {
@@ -106,42 +124,63 @@ void register_sweep(CLI::App& app)
                                     : default_camera(mesh_bounds(s.mesh()), double(s.width) / s.height, v.azimuth,
                                                      v.elevation);
             const Image ref = run_algorithm(s, "reference", a->algo_options).image;
+            write_npy(runs + "/v" + std::to_string(v.index) + "-reference.npy", ref);
             nlohmann::json vj = {{"view", v.index}, {"azimuth", v.azimuth}, {"elevation", v.elevation}};
-            Image top[2];
+            // One HAVS run: its row from disk when both files are there, else rendered, measured and stored.
+            auto run = [&](const std::string& tag, const AlgoOptions& o, const Image& against, nlohmann::json row) {
+                nlohmann::json stored;
+                const std::string base = runs + "/" + tag;
+                if (load_json(base + ".json", stored) && std::filesystem::exists(base + ".npy", ec)) {
+                    ++resumed;
+                    return stored;
+                }
+                const AlgoResult r = run_algorithm(s, "havs", o);
+                const ErrorMeasures e = measure_errors(r.image, against);
+                row["backend"] = o.backend;
+                row["rmse"] = e.rmse;
+                row["max_abs"] = e.max_abs;
+                row["psnr"] = std::isfinite(e.psnr) ? nlohmann::json(e.psnr) : nlohmann::json(nullptr);
+                row["visible_fraction"] = e.visible_fraction;
+                if (!r.ordering_errors.empty()) {
+                    std::size_t err_pixels = 0;
+                    for (uint32_t c : r.ordering_errors) err_pixels += c ? 1 : 0;
+                    row["ordering_errors"] = r.stats["ordering_errors"];
+                    row["ordering_error_pixel_fraction"] = double(err_pixels) / double(r.ordering_errors.size());
+                    row["max_fragments_per_pixel"] = r.stats["max_fragments_per_pixel"];
+                }
+                row["ms"] = r.ms;
+                write_npy(base + ".npy", r.image);
+                write_file_atomically(base + ".json", row.dump() + "\n");
+                return row;
+            };
+            const std::string vtag = "v" + std::to_string(v.index);
             for (int mode = 0; mode < 2; ++mode) {
                 const std::string mname = mode == 0 ? "exact" : "table";
                 int smallest = -1;
                 for (int k : ks) {
-                    const std::string tag = "v" + std::to_string(v.index) + "-k" + std::to_string(k) + "-" + mname;
-                    nlohmann::json row;
-                    const bool last = k == ks.back();
-                    if (!load_json(runs + "/" + tag + ".json", row) ||
-                        (last && !std::filesystem::exists(runs + "/" + tag + ".npy", ec))) {
-                        AlgoOptions o = a->algo_options;
-                        o.k = k;
-                        o.segment = mname;
-                        const AlgoResult r = run_algorithm(s, "havs", o);
-                        const ErrorMeasures e = measure_errors(r.image, ref);
-                        std::size_t err_pixels = 0;
-                        for (uint32_t c : r.ordering_errors) err_pixels += c ? 1 : 0;
-                        row = {{"view", v.index}, {"k", k}, {"mode", mname}, {"rmse", e.rmse}, {"max_abs", e.max_abs},
-                               {"psnr", std::isfinite(e.psnr) ? nlohmann::json(e.psnr) : nlohmann::json(nullptr)},
-                               {"visible_fraction", e.visible_fraction},
-                               {"ordering_errors", r.stats["ordering_errors"]},
-                               {"ordering_error_pixel_fraction", double(err_pixels) / double(r.ordering_errors.size())},
-                               {"max_fragments_per_pixel", r.stats["max_fragments_per_pixel"]}, {"ms", r.ms}};
-                        if (last) write_npy(runs + "/" + tag + ".npy", r.image);
-                        write_file_atomically(runs + "/" + tag + ".json", row.dump() + "\n");
-                    } else {
-                        ++resumed;
-                    }
-                    if (last) top[mode] = read_npy(runs + "/" + tag + ".npy");
+                    AlgoOptions o = a->algo_options;
+                    o.k = k;
+                    o.segment = mname;
+                    if (mode == 0) o.backend = "emu";  // the exact integral is the emulation's alone
+                    const nlohmann::json row = run(vtag + "-k" + std::to_string(k) + "-" + mname, o, ref,
+                                                   {{"view", v.index}, {"k", k}, {"mode", mname}});
                     if (smallest < 0 && row["visible_fraction"].get<double>() == 0.0) smallest = k;
                     out["rows"].push_back(row);
                     bar.update(double(++done) / double(total));
                 }
                 vj[std::string("smallest_k_without_visible_error_") + mname] =
                     smallest < 0 ? nlohmann::json(nullptr) : nlohmann::json(smallest);
+            }
+            const std::string last = vtag + "-k" + std::to_string(ks.back());
+            const Image top[2] = {read_npy(runs + "/" + last + "-exact.npy"), read_npy(runs + "/" + last + "-table.npy")};
+            // The table's error against its size: table against exact at the largest k.
+            for (int n : table_sizes) {
+                AlgoOptions o = a->algo_options;
+                o.k = ks.back();
+                o.table_size = n;
+                out["table_rows"].push_back(run(last + "-table" + std::to_string(n), o, top[0],
+                                                {{"view", v.index}, {"k", ks.back()}, {"table_size", n}}));
+                bar.update(double(++done) / double(total));
             }
             const ErrorMeasures floor = measure_errors(top[1], top[0]);
             vj["table_floor_rmse"] = floor.rmse;
@@ -153,19 +192,29 @@ void register_sweep(CLI::App& app)
         out["table_floor_rmse"] = floor_sum / double(views.size());
         out["resumed_runs"] = resumed;
         write_file_atomically(dir + "/sweep.json", out.dump(1) + "\n");
-        std::string csv = "view,k,mode,rmse,max_abs,psnr,visible_fraction,ordering_errors,"
+        // sweep.csv: one line per run; a table-size run has mode "table-vs-exact" and its table size, and measures
+        // against the exact image at the largest k instead of the reference. Missing counts (a GL run without
+        // diagnostics) are empty fields.
+        std::string csv = "view,k,mode,table_size,backend,rmse,max_abs,psnr,visible_fraction,ordering_errors,"
                           "ordering_error_pixel_fraction,max_fragments_per_pixel,ms\n";
-        for (const auto& r : out["rows"]) {
-            char buf[512];
-            std::snprintf(buf, sizeof buf, "%d,%d,%s,%.9g,%.9g,%s,%.9g,%llu,%.9g,%llu,%.3f\n", r["view"].get<int>(),
-                          r["k"].get<int>(), r["mode"].get<std::string>().c_str(), r["rmse"].get<double>(),
-                          r["max_abs"].get<double>(),
-                          r["psnr"].is_null() ? "inf" : std::to_string(r["psnr"].get<double>()).c_str(),
-                          r["visible_fraction"].get<double>(), r["ordering_errors"].get<unsigned long long>(),
-                          r["ordering_error_pixel_fraction"].get<double>(),
-                          r["max_fragments_per_pixel"].get<unsigned long long>(), r["ms"].get<double>());
-            csv += buf;
-        }
+        auto field = [](const nlohmann::json& r, const char* key) {
+            if (!r.contains(key) || r[key].is_null()) return std::string(r.contains(key) ? "inf" : "");
+            char buf[64];
+            if (r[key].is_number_unsigned() || r[key].is_number_integer())
+                std::snprintf(buf, sizeof buf, "%lld", r[key].get<long long>());
+            else
+                std::snprintf(buf, sizeof buf, "%.9g", r[key].get<double>());
+            return std::string(buf);
+        };
+        auto line = [&](const nlohmann::json& r, const std::string& mode, const std::string& table_size) {
+            csv += field(r, "view") + "," + field(r, "k") + "," + mode + "," + table_size + "," +
+                   r["backend"].get<std::string>() + "," + field(r, "rmse") + "," + field(r, "max_abs") + "," +
+                   field(r, "psnr") + "," + field(r, "visible_fraction") + "," + field(r, "ordering_errors") + "," +
+                   field(r, "ordering_error_pixel_fraction") + "," + field(r, "max_fragments_per_pixel") + "," +
+                   field(r, "ms") + "\n";
+        };
+        for (const auto& r : out["rows"]) line(r, r["mode"].get<std::string>(), "");
+        for (const auto& r : out["table_rows"]) line(r, "table-vs-exact", field(r, "table_size"));
         write_file_atomically(dir + "/sweep.csv", csv);
         // Plots by matplotlib (Debian's python3-matplotlib); without it the numbers still stand.
         const std::string plot = std::string("/usr/bin/python3 '") + UVR_SOURCE_DIR + "/bench/plots/sweep_plots.py' '" +

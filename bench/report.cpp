@@ -145,7 +145,23 @@ void write_sweep_page(const std::string& dir, const nlohmann::json& w, bool plot
                       v["table_floor_rmse"].get<double>());
         h += buf;
     }
-    h += "</table>\n<p>Every number: <a href=\"sweep.csv\">sweep.csv</a>, <a href=\"sweep.json\">sweep.json</a>."
+    h += "</table>\n";
+    if (!w["table_rows"].empty()) {
+        h += "<h2>Table error against table size</h2>\n<p>HAVS with the table against HAVS with exact segments, both at "
+             "k = " + std::to_string(w["k"].back().get<int>()) + ".</p>\n";
+        if (plots) h += "<p><img src=\"table_error_vs_size.png\" alt=\"table error against table size\"></p>\n";
+        h += "<table><tr><th>view</th><th>table size</th><th>RMSE</th><th>largest error</th><th>visible fraction</th>"
+             "</tr>\n";
+        for (const auto& r : w["table_rows"]) {
+            char buf[256];
+            std::snprintf(buf, sizeof buf, "<tr><td>%d</td><td>%d</td><td>%.3g</td><td>%.3g</td><td>%.4f</td></tr>\n",
+                          r["view"].get<int>(), r["table_size"].get<int>(), r["rmse"].get<double>(),
+                          r["max_abs"].get<double>(), r["visible_fraction"].get<double>());
+            h += buf;
+        }
+        h += "</table>\n";
+    }
+    h += "<p>Every number: <a href=\"sweep.csv\">sweep.csv</a>, <a href=\"sweep.json\">sweep.json</a>."
          "</p>\n" + load_check_script() + "</body></html>\n";
     write_file_atomically(dir + "/index.html", h);
 }

@@ -1,6 +1,8 @@
 // SPEC §4's error measures and `uvr compare`'s report.
 #include <cmath>
+#include <algorithm>
 #include <filesystem>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -10,6 +12,47 @@
 using namespace uvr;
 using uvr::test::run_uvr;
 using uvr::test::TempDir;
+
+namespace {
+
+struct Recomputed {
+    double rmse = 0.0, max_abs = 0.0, visible_fraction = 0.0;
+};
+
+// SPEC §4's measures, recomputed here independently of reference/error_measures.cpp.
+Recomputed recompute(const Image& img, const Image& ref)
+{
+    double sum = 0.0, worst = 0.0;
+    std::size_t visible = 0;
+    for (std::size_t p = 0; p < img.rgba.size() / 4; ++p) {
+        double pw = 0.0;
+        for (int c = 0; c < 4; ++c) {
+            const double d = std::fabs(double(img.rgba[4 * p + c]) - double(ref.rgba[4 * p + c]));
+            sum += d * d;
+            pw = std::max(pw, d);
+        }
+        worst = std::max(worst, pw);
+        visible += pw > 1.0 / 255.0;
+    }
+    return {std::sqrt(sum / double(img.rgba.size())), worst, double(visible) / double(img.rgba.size() / 4)};
+}
+
+// sweep.csv prints with %.9g: nine significant digits, a relative rounding of at most 5e-9.
+constexpr double kCsvRelative = 5e-9;
+
+std::vector<std::string> split_csv(const std::string& line)
+{
+    std::vector<std::string> out(1);
+    for (char c : line) {
+        if (c == ',')
+            out.emplace_back();
+        else
+            out.back().push_back(c);
+    }
+    return out;
+}
+
+}  // namespace
 
 TEST_CASE("error measures on images whose errors are known")
 {
@@ -43,27 +86,59 @@ TEST_CASE("uvr compare writes the images, error maps, metrics.json and a page wh
         const std::string label = res["label"];
         INFO(label);
         CHECK(std::filesystem::exists(dir + "/" + res["image"].get<std::string>()));
-        const Image img = read_npy(dir + "/" + label + ".npy");
-        // Recomputed here, independently of reference/error_measures.cpp.
-        double sum = 0.0, worst = 0.0;
-        std::size_t visible = 0;
-        for (std::size_t p = 0; p < img.rgba.size() / 4; ++p) {
-            double pw = 0.0;
-            for (int c = 0; c < 4; ++c) {
-                const double d = std::fabs(double(img.rgba[4 * p + c]) - double(ref.rgba[4 * p + c]));
-                sum += d * d;
-                pw = std::max(pw, d);
-            }
-            worst = std::max(worst, pw);
-            visible += pw > 1.0 / 255.0;
-        }
-        CHECK(res["rmse"].get<double>() == Approx(std::sqrt(sum / double(img.rgba.size()))).margin(1e-15));
-        CHECK(res["max_abs"].get<double>() == Approx(worst).margin(1e-15));
-        CHECK(res["visible_fraction"].get<double>() == Approx(double(visible) / double(img.rgba.size() / 4)));
+        const Recomputed e = recompute(read_npy(dir + "/" + label + ".npy"), ref);
+        CHECK(res["rmse"].get<double>() == Approx(e.rmse).margin(1e-15));
+        CHECK(res["max_abs"].get<double>() == Approx(e.max_abs).margin(1e-15));
+        CHECK(res["visible_fraction"].get<double>() == Approx(e.visible_fraction));
         if (label != "reference") CHECK(std::filesystem::exists(dir + "/" + res["error_map"].get<std::string>()));
     }
     const std::string page = uvr::test::file_contents(dir + "/index.html");
     CHECK_THAT(page, Catch::Contains("havs-emu-k6.png") && Catch::Contains("havs-emu-k6-error.png") &&
                          Catch::Contains("metrics.json"));
+    unsetenv("UVR_CACHE_DIR");
+}
+
+TEST_CASE("uvr sweep's CSV holds the numbers its images give, the table-size sweep included")
+{
+    TempDir tmp("sweep-csv");
+    setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
+    const std::string dir = tmp.file("report");
+    const auto r = run_uvr("sweep builtin:torus-small --size 48x40 --k 1,4 --views 2 --table-sizes 16,64 --report '" +
+                           dir + "'");
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    std::istringstream csv(uvr::test::file_contents(dir + "/sweep.csv"));
+    std::string line;
+    std::getline(csv, line);
+    const std::vector<std::string> header = split_csv(line);
+    REQUIRE(header.size() == 13);
+    auto col = [&](const std::string& name) {
+        return std::size_t(std::find(header.begin(), header.end(), name) - header.begin());
+    };
+    std::size_t rows = 0, table_rows = 0;
+    while (std::getline(csv, line)) {
+        const std::vector<std::string> f = split_csv(line);
+        REQUIRE(f.size() == header.size());
+        const std::string view = f[col("view")], k = f[col("k")], mode = f[col("mode")];
+        INFO(line);
+        // The run's image, and what it is measured against: the reference, or for the table-size runs the exact run at
+        // the largest k.
+        std::string image = "v" + view + "-k" + k + "-" + mode, against = "v" + view + "-reference";
+        if (mode == "table-vs-exact") {
+            image = "v" + view + "-k" + k + "-table" + f[col("table_size")];
+            against = "v" + view + "-k" + k + "-exact";
+            ++table_rows;
+        } else {
+            ++rows;
+        }
+        const Recomputed e = recompute(read_npy(dir + "/runs/" + image + ".npy"), read_npy(dir + "/runs/" + against + ".npy"));
+        CHECK(std::stod(f[col("rmse")]) == Approx(e.rmse).epsilon(kCsvRelative).margin(1e-300));
+        CHECK(std::stod(f[col("max_abs")]) == Approx(e.max_abs).epsilon(kCsvRelative).margin(1e-300));
+        CHECK(std::stod(f[col("visible_fraction")]) == Approx(e.visible_fraction).epsilon(kCsvRelative));
+    }
+    CHECK(rows == 2 * 2 * 2);    // views x k x (exact, table)
+    CHECK(table_rows == 2 * 2);  // views x table sizes
+    CHECK(std::filesystem::exists(dir + "/table_error_vs_size.png"));
+    CHECK_THAT(uvr::test::file_contents(dir + "/index.html"), Catch::Contains("table_error_vs_size.png"));
     unsetenv("UVR_CACHE_DIR");
 }

@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """Plots of a `uvr sweep` report (DIR/sweep.json) with matplotlib (Debian's python3-matplotlib):
 error against k per view and their mean, split into the sorting error (exact segments) and the total (table), and
-the fraction of pixels with ordering errors against k. Writes DIR/error_vs_k.png and DIR/ordering_vs_k.png."""
+the fraction of pixels with ordering errors against k. Writes DIR/error_vs_k.png and DIR/ordering_vs_k.png, and with
+a table-size sweep (--table-sizes) DIR/table_error_vs_size.png: the table's error against exact integration at the
+largest k, against the table size."""
 import json
 import sys
 
@@ -60,6 +62,27 @@ def main():
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(f"{d}/ordering_vs_k.png")
+
+    table_rows = sweep.get("table_rows", [])
+    if table_rows:
+        sizes = sorted({r["table_size"] for r in table_rows})
+        fig, ax = plt.subplots(figsize=(7, 4.5), dpi=110)
+        for key, name in (("rmse", "RMSE"), ("max_abs", "largest error")):
+            for v in views:
+                pts = sorted((r["table_size"], r[key]) for r in table_rows if r["view"] == v)
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], "-" if key == "rmse" else "--", marker="o",
+                        label=f"{name}, view {v}")
+        ax.set_xscale("log", base=2)
+        ax.set_yscale("log")
+        ax.set_xticks(sizes)
+        ax.set_xticklabels([str(n) for n in sizes])
+        ax.set_xlabel("table size (texels per axis)")
+        ax.set_ylabel(f"error against exact segments, k = {ks[-1]}")
+        ax.set_title(f"Pre-integration table error against its size: {sweep['mesh']}")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(f"{d}/table_error_vs_size.png")
 
 
 if __name__ == "__main__":
