@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# One command, one table (issue 9): uvr's algorithms and VTK 9's three unstructured-grid volume mappers on the same
+# mesh, transfer function, camera and size, in one run: milliseconds per frame (median), and each image's error against
+# uvr's reference measured the same way for all (SPEC §4 on the RGB colour over black, since VTK's images are 8-bit
+# RGB: RMSE, visible fraction, and the fraction of covered pixels left empty).
+#   bash bench/peers/peer_table.sh MESH [scene options...]     e.g.
+#   bash bench/peers/peer_table.sh ../shared/data/vtk-data/bluntfinxyz.bin --q ../shared/data/vtk-data/bluntfinq.bin
+# Environment: K (HAVS k, default 6), GL (osmesa | egl, default osmesa), REPEAT (default 5), KEEP (a directory to keep
+# every image and JSON in). Needs Debian's python3-vtk9, python3-numpy and xvfb.
+set -euo pipefail
+here=$(cd "$(dirname "$0")/../.." && pwd)
+uvr="$here/build/bench/uvr"
+k=${K:-6}
+gl=${GL:-osmesa}
+repeat=${REPEAT:-5}
+if [ -n "${KEEP:-}" ]; then dir=$KEEP; mkdir -p "$dir"; else dir=$(mktemp -d); trap 'rm -rf "$dir"' EXIT; fi
+"$uvr" export "$@" --out "$dir/scene" >/dev/null
+"$uvr" compare "$@" --algos reference,havs --k "$k" --no-cache --report "$dir/emu" --json > "$dir/emu.json"
+"$uvr" compare "$@" --algos havs --backend gl --gl "$gl" --k "$k" --report "$dir/gl" --json > "$dir/gl.json"
+"$uvr" bench "$@" --algos reference,havs --backend emu,gl --gl "$gl" --k "$k" --repeat "$repeat" --json \
+  > "$dir/bench.json"
+mkdir -p "$dir/vtk"
+xvfb-run -a /usr/bin/python3 "$here/bench/peers/vtk_peers.py" "$dir/scene" --reference "$dir/emu/reference.npy" \
+  --mappers raycast,pt,zsweep --repeat "$repeat" --save "$dir/vtk" > "$dir/vtk.json"
+/usr/bin/python3 - "$dir" "$k" "$gl" <<'PY'
+import json, sys
+import numpy as np
+d, k, gl = sys.argv[1], sys.argv[2], sys.argv[3]
+b = json.load(open(f"{d}/bench.json"))
+v = json.load(open(f"{d}/vtk.json"))
+ref = np.load(f"{d}/emu/reference.npy")
+
+def rgb_errors(rgb):
+    # The same measures as bench/peers/vtk_peers.py errors(): premultiplied colour over black is the colour itself.
+    diff = np.abs(rgb - ref[:, :, :3])
+    covered = ref[:, :, 3] > 1.0 / 255.0
+    empty = covered & (rgb.max(axis=2) == 0.0)
+    return (float(np.sqrt(np.mean(diff ** 2))), float(np.mean(diff.max(axis=2) > 1.0 / 255.0)),
+            float(empty.sum() / max(1, covered.sum())))
+
+rows = []
+for r in b["results"]:
+    if r["algo"] == "reference":
+        img, name = ref, "uvr reference (exact, CPU)"
+    else:
+        sub = "emu" if r["backend"] == "emu" else "gl"
+        img = np.load(f"{d}/{sub}/havs-{sub}-k{k}.npy")
+        name = f"uvr HAVS k={k}, " + ("emulated" if sub == "emu" else f"GL ({gl})")
+    rows.append((name, r["frame_ms"], *rgb_errors(img[:, :, :3])))
+for r in v["results"]:
+    rgb = np.load(f"{d}/vtk/{r['algo']}.npy")
+    rows.append((f"VTK {v['vtk']} {r['algo'][4:]}", r["frame_ms"], *rgb_errors(rgb)))
+m = b["machine"]
+print(f"{b['mesh']}: {b['tetrahedra']} tetrahedra, {b['width']}x{b['height']}; {m['cpu']}, {m['threads']} threads; "
+      f"medians of {len(b['results'][0]['frame_ms_all'])}")
+print()
+print("| renderer | ms/frame | RMSE (RGB) | visible fraction | covered pixels left empty |")
+print("|---|---|---|---|---|")
+for name, ms, rmse, vis, empty in rows:
+    print(f"| {name} | {ms:.1f} | {rmse:.2e} | {vis:.4f} | {empty:.4f} |")
+print()
+print("GL: " + next((r["gl"] for r in b["results"] if "gl" in r), "not run"))
+print(f"peak memory of uvr bench: {b['peak_rss_mib']:.0f} MiB ({b['bytes_per_tet']:.0f} bytes per tetrahedron)")
+PY
