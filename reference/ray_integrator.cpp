@@ -75,7 +75,8 @@ void entry_filter(const RTCFilterFunctionNArguments* args)
 
 RayIntegrator::RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
                              const TransferFunction& tf)
-    : mesh_(mesh), topo_(topo), field_(mesh.fields.at(field)), segment_(tf), embree_(std::make_unique<Embree>())
+    : mesh_(mesh), topo_(topo), field_(mesh.fields.at(field)), segment_(tf), embree_(std::make_unique<Embree>()),
+      bounds_(mesh_bounds(mesh))
 {
     // Gradient of the linear field in each tetrahedron: solve [e1; e2; e3] g = ds by Cramer's rule.
     gradient_.resize(mesh.tets.size(), glm::dvec4(0.0));
@@ -148,8 +149,8 @@ double RayIntegrator::scalar_at(uint32_t t, const glm::dvec3& p) const
     return g.w + glm::dot(glm::dvec3(g), p - mesh_.points[mesh_.tets[t][0]]);
 }
 
-int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, glm::dvec4& acc, double& t_out,
-                            RayStats& stats) const
+int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, double t_clip, glm::dvec4& acc,
+                            double& t_out, RayStats& stats) const
 {
     const Face& entry = topo_.faces[std::size_t(face)];
     uint32_t tet = uint32_t(entry.tet[0]);
@@ -199,7 +200,12 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, glm::dvec
         const glm::dvec4& g = gradient_[tet];
         const double s_out = g.w + glm::dot(glm::dvec3(g), (t1 * ray.dir) - w);
         if (t1 > t_in) {
-            acc = composite_over(acc, segment_.integrate(s_in, s_out, t1 - t_in));
+            if (t1 > t_clip) {
+                // The part at t >= t_clip: the scalar is linear along the segment inside one tetrahedron.
+                const double t0 = std::max(t_in, t_clip);
+                const double s0 = t0 == t_in ? s_in : s_in + (s_out - s_in) * ((t0 - t_in) / (t1 - t_in));
+                acc = composite_over(acc, segment_.integrate(s0, s_out, t1 - t0));
+            }
             zero_steps = 0;
         } else if (++zero_steps > kMaxZeroLengthSteps) {
             ++stats.failures;
@@ -219,9 +225,19 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, glm::dvec
     }
 }
 
-glm::dvec4 RayIntegrator::integrate(const Ray& ray, RayStats& stats) const
+glm::dvec4 RayIntegrator::integrate(const Ray& in, RayStats& stats) const
 {
     const Embree& E = *embree_;
+    // An origin inside the mesh's bounds may lie inside the mesh, where no boundary face is ahead to enter through.
+    // Such a ray is traced from `back` units behind, a point outside the bounds (distance to the bounds' centre plus
+    // their diagonal), and composited from t = back on: the same line, so the same tetrahedra and segments, with the
+    // first segment cut where the real ray starts. Moving the origin costs t some precision (t grows by at most a few
+    // diagonals), far below what the reference's tolerances allow.
+    const Bounds& bb = bounds_;
+    const bool inside_bounds = in.origin.x >= bb.lo.x && in.origin.y >= bb.lo.y && in.origin.z >= bb.lo.z &&
+                               in.origin.x <= bb.hi.x && in.origin.y <= bb.hi.y && in.origin.z <= bb.hi.z;
+    const double back = inside_bounds ? glm::length(in.origin - bb.center()) + glm::length(bb.extent()) : 0.0;
+    const Ray ray{in.origin - back * in.dir, in.dir};
     glm::dvec4 acc(0.0);
     std::vector<int32_t> used;
     double t_min = 0.0;
@@ -264,7 +280,7 @@ glm::dvec4 RayIntegrator::integrate(const Ray& ray, RayStats& stats) const
         used.push_back(face);
         ++stats.entries;
         double t_out = t_in;
-        const int32_t left = walk(ray, face, t_in, acc, t_out, stats);
+        const int32_t left = walk(ray, face, t_in, back, acc, t_out, stats);
         if (left < 0 || acc.a >= kReferenceOpaque) break;
         used.push_back(left);
         t_min = t_out;

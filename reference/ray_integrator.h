@@ -35,7 +35,9 @@ public:
     RayIntegrator(const RayIntegrator&) = delete;
     RayIntegrator& operator=(const RayIntegrator&) = delete;
 
-    // Premultiplied RGBA along the ray from t = 0 (the ray's origin) to infinity. Thread-safe.
+    // Premultiplied RGBA along the ray from t = 0 (the ray's origin) to infinity. Thread-safe. The origin may lie
+    // anywhere, inside the mesh or on one of its faces too (a camera inside the mesh): the ray is then traced from a
+    // point behind it, outside the mesh's bounds, and only what lies at t >= 0 is composited.
     glm::dvec4 integrate(const Ray& ray, RayStats& stats) const;
 
     // The scalar at world point p inside tetrahedron t (linear interpolation).
@@ -43,9 +45,10 @@ public:
 
 private:
     struct Embree;
-    // The walk from boundary face `face` entered at ray parameter t_in, compositing into acc; returns the boundary
-    // face it leaves through and sets t_out.
-    int32_t walk(const Ray& ray, int32_t face, double t_in, glm::dvec4& acc, double& t_out, RayStats& stats) const;
+    // The walk from boundary face `face` entered at ray parameter t_in, compositing into acc what lies at t >= t_clip;
+    // returns the boundary face it leaves through and sets t_out.
+    int32_t walk(const Ray& ray, int32_t face, double t_in, double t_clip, glm::dvec4& acc, double& t_out,
+                 RayStats& stats) const;
 
     const TetMesh& mesh_;
     const MeshTopology& topo_;
@@ -59,6 +62,7 @@ private:
     std::vector<std::array<uint32_t, 4>> next_;
     static constexpr uint32_t kNoNeighbor = 0xFFFFFFFFu;
     std::unique_ptr<Embree> embree_;
+    Bounds bounds_;  // the mesh's, for origins inside them (integrate)
 };
 
 // Accumulated alpha beyond which the rest of a ray cannot change any channel by more than 1e-15: the reference stops

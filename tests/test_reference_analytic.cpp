@@ -269,3 +269,49 @@ TEST_CASE("the image does not depend on the order of vertices and tetrahedra")
     CHECK(sa.failures == 0);
     CHECK(sb.failures == 0);
 }
+
+TEST_CASE("a camera inside the mesh, or exactly on its boundary, sees the analytic chord from the eye on")
+{
+    // The linear field of the test above, so that the cut first segment's scalar is checked too.
+    auto field = [](const glm::dvec3& p) { return (p.x + 2.0 * p.y + 3.0 * p.z) / 36.0; };
+    TransferFunction tf;
+    tf.color = {{0.0, {1, 0, 0}}, {1.0, {0, 0, 1}}};
+    tf.extinction = {{0.0, 0.05}, {1.0, 0.6}};
+    const SegmentIntegrator seg(tf);
+    struct Case {
+        const char* what;
+        glm::dvec3 eye, target;
+        double jitter;
+    };
+    for (const Case& c : {Case{"inside a cell", {2.3, 3.1, 2.7}, {6.0, 4.0, 5.0}, 0.25},
+                          Case{"exactly on a grid vertex, rays along edges and faces", {3.0, 3.0, 3.0}, {6.0, 3.0, 3.0}, 0.0},
+                          Case{"exactly on a boundary face, looking in", {3.2, 2.9, 0.0}, {3.0, 3.0, 6.0}, 0.0},
+                          Case{"on a boundary face, looking out", {3.2, 2.9, 6.0}, {3.0, 3.0, 9.0}, 0.0}}) {
+        INFO(c.what);
+        const TetMesh mesh = box_mesh(6, field, c.jitter, 9);
+        const MeshTopology topo = build_topology(mesh);
+        const RayIntegrator ri(mesh, topo, 0, tf);
+        Camera cam;
+        cam.eye = c.eye;
+        cam.target = c.target;
+        cam.up = glm::dvec3(0.0, 1.0, 0.0) + glm::dvec3(0.0, 0.0, 0.1);
+        cam.fovy_deg = 100.0;
+        ReferenceStats stats;
+        const Image img = render_reference(ri, cam, 40, 40, stats);
+        CHECK(stats.failures == 0);
+        double worst = 0.0, largest_alpha = 0.0;
+        for (int j = 0; j < 40; ++j)
+            for (int i = 0; i < 40; ++i) {
+                const Ray r = camera_ray(cam, 40, 40, i, j);
+                double t0, t1;
+                glm::dvec4 expected(0.0);
+                if (box_chord(r, glm::dvec3(0.0), glm::dvec3(6.0), t0, t1))
+                    expected = seg.integrate(field(r.origin + t0 * r.dir), field(r.origin + t1 * r.dir), t1 - t0);
+                largest_alpha = std::max(largest_alpha, expected.a);
+                for (int k = 0; k < 4; ++k) worst = std::max(worst, std::fabs(img.pixel(i, j)[k] - expected[k]));
+            }
+        INFO("largest error " << worst << ", largest expected alpha " << largest_alpha);
+        CHECK(worst <= kPixelTolerance);
+        if (std::string(c.what).find("looking out") == std::string::npos) CHECK(largest_alpha > 0.1);
+    }
+}

@@ -8,9 +8,12 @@ error against uvr's reference image with SPEC section 4's measures.
 
 Prints one JSON object. Debian's python3-vtk9 renders through X, hence xvfb-run (Mesa's llvmpipe under Xvfb).
 
-Transfer function: uvr's extinction tau (per world unit) becomes VTK's scalar opacity a = 1 - exp(-tau u) at each node
-with ScalarOpacityUnitDistance u, which VTK turns back into tau for each sample. VTK interpolates a, not tau, linearly
-between nodes; with u small (1/1000 of the bounds' diagonal, so that a is within 0.1 % of tau u) the two agree closely.
+Transfer function: uvr's extinction tau (per world unit) becomes VTK's scalar opacity a = tau u at each node, with
+ScalarOpacityUnitDistance u = 1 / tau_max. All three mappers use a / u as an extinction coefficient (the ray caster's
+vtkUnstructuredGridHomogeneousRayIntegrator divides its attenuation table by the unit length; projected tetrahedra
+compute 1 - exp(-(a / u) L) per tetrahedron from thickness / unit distance), so a = tau u is exact, and u = 1 / tau_max
+keeps a in [0, 1] using its whole range: projected tetrahedra truncate a to 8 bits per vertex and discard fragments
+whose opacity is 0, so an a of 1/1000 (what an earlier u = diagonal / 1000 gave) left most of its image black.
 """
 import argparse
 import json
@@ -50,7 +53,7 @@ def volume_property(tf, unit):
         color.AddRGBPoint(s, r, g, b)
     opacity = vtk.vtkPiecewiseFunction()
     for s, tau in tf["extinction"]:
-        opacity.AddPoint(s, 1.0 - math.exp(-tau * unit))
+        opacity.AddPoint(s, tau * unit)
     prop = vtk.vtkVolumeProperty()
     prop.SetColor(color)
     prop.SetScalarOpacity(opacity)
@@ -122,9 +125,10 @@ def main():
     ap.add_argument("--save", help="directory for the peers' images (.npy)")
     a = ap.parse_args()
     grid, tf, cam, scene = load(a.scene)
+    tau_max = max(tau for _, tau in tf["extinction"])
     b = grid.GetBounds()
     diagonal = math.sqrt((b[1] - b[0]) ** 2 + (b[3] - b[2]) ** 2 + (b[5] - b[4]) ** 2)
-    prop = volume_property(tf, diagonal / 1000.0)
+    prop = volume_property(tf, 1.0 / tau_max if tau_max > 0 else diagonal)
     reference = np.load(a.reference) if a.reference else None
     out = {"vtk": vtk.vtkVersion.GetVTKVersion(), "cells": grid.GetNumberOfCells(), "width": scene["width"],
            "height": scene["height"], "results": []}
