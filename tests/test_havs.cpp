@@ -161,3 +161,14 @@ TEST_CASE("the HAVS frame does not depend on the number of threads")
     const Image single = HavsRenderer(s.mesh, s.topo, s.field, s.tf, o).render(cam, 200, 150).image;
     CHECK(many.rgba == single.rgba);
 }
+
+TEST_CASE("HAVS refuses a camera inside the mesh's bounds with a clear error")
+{
+    // No near-plane clipping is emulated (docs/robustness.md), so such a frame would be wrong: refused instead.
+    const Scene s = make_scene(load_builtin("builtin:torus-small"), 0);
+    Camera cam;
+    cam.eye = mesh_bounds(s.mesh).center();
+    cam.target = cam.eye + glm::dvec3(1.0, 0.0, 0.0);
+    const HavsRenderer havs(s.mesh, s.topo, s.field, s.tf, HavsOptions{});
+    test::require_input_error([&] { havs.render(cam, 32, 32); }, {"camera is inside"});
+}

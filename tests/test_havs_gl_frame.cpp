@@ -169,3 +169,17 @@ TEST_CASE("the GL HAVS frame converges to the reference as the table grows, as t
         previous = e_gl;
     }
 }
+
+TEST_CASE("HAVS on GL refuses a camera inside the mesh's bounds, and --segment exact, with clear errors")
+{
+    const Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
+    Camera cam;
+    cam.eye = mesh_bounds(s.mesh).center();
+    cam.target = cam.eye + glm::dvec3(1.0, 0.0, 0.0);
+    GlHavsRenderer gl(osmesa(), s.mesh, s.topo, s.field, s.tf, HavsOptions{});
+    test::require_input_error([&] { gl.render(cam, 32, 32); }, {"camera is inside"});
+    HavsOptions exact;
+    exact.segment = SegmentMode::exact;
+    test::require_input_error([&] { GlHavsRenderer(osmesa(), s.mesh, s.topo, s.field, s.tf, exact); },
+                              {"--segment exact runs only in the emulation"});
+}
