@@ -32,6 +32,7 @@ GlPlatform parse_gl_platform(const std::string& name);        // throws InputErr
     X(PFNGLGETSTRINGPROC, GetString)                                                                                \
     X(PFNGLGETSTRINGIPROC, GetStringi)                                                                              \
     X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                                            \
+    X(PFNGLGETINTEGER64VPROC, GetInteger64v)                                                                        \
     X(PFNGLGETERRORPROC, GetError)                                                                                  \
     X(PFNGLFINISHPROC, Finish)                                                                                      \
     X(PFNGLENABLEPROC, Enable)                                                                                      \

@@ -58,6 +58,14 @@ struct GlHavsRenderer::Objects {
     }
 };
 
+std::size_t GlHavsRenderer::faces_per_draw() const
+{
+    if (faces_per_draw_) return faces_per_draw_;
+    GLint64 block = 0;
+    ctx_.gl().GetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+    return std::max<std::size_t>(1, std::size_t(block) / sizeof(GlHavsFace));
+}
+
 int GlHavsRenderer::max_k(const GlInfo& info, bool diagnostics)
 {
     const int targets = std::min(info.max_draw_buffers, info.max_color_attachments) - 1 - (diagnostics ? 1 : 0);
@@ -143,26 +151,20 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     st.table_ms = mesh_.table_ms();
     st.faces = mesh_.face_count();
 
-    // CPU stage: sort, vertex stage, then every face's constants and vertex indices in sorted order.
+    // CPU stage: sort, vertex stage, then the vertex indices of every face in sorted order.
     const HavsFrameSetup fs = setup_havs_frame(mesh_, cam, width, height);
     st.sort_ms = fs.sort_ms;
     auto t0 = Clock::now();
     const std::size_t nfaces = fs.order.size();
-    std::vector<GlHavsFace> records(nfaces);
     std::vector<uint32_t> indices(3 * nfaces);
     const auto& faces = mesh_.faces();
     tbb::parallel_for(std::size_t(0), nfaces, [&](std::size_t i) {
         const uint32_t f = fs.order[i];
-        records[i] = pack_havs_face(havs_face_constants(mesh_, fs, f));
         for (int j = 0; j < 3; ++j) indices[3 * i + std::size_t(j)] = faces[3 * std::size_t(f) + std::size_t(j)];
     });
     gl.BindVertexArray(gl_->mesh_vao);
     gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(uint32_t)), indices.data(),
                   GL_STREAM_DRAW);
-    gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, gl_->face_buffer);
-    gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(records.size() * sizeof(GlHavsFace)), records.data(),
-                  GL_STREAM_DRAW);
-    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, gl_->face_buffer);
 
     // The framebuffer: RGBA32F attachments, made again when the size changes.
     if (gl_->width != width || gl_->height != height) {
@@ -208,12 +210,31 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     ctx_.check_error("preparing the HAVS geometry pass");
     st.setup_ms = fs.vertex_ms + ms_since(t0);
 
-    // The geometry pass: every face, in sorted order, in one draw.
+    // The geometry pass: the faces in sorted order, as few draws as the storage buffer's block size allows (GL keeps
+    // primitive order across draws, so the pixels see the same sequence as from one draw). Each draw's face constants
+    // are built and uploaded just before it: the CPU never holds more than one chunk of them.
+    const std::size_t chunk = faces_per_draw();
+    std::vector<GlHavsFace> records(std::min(chunk, nfaces));
+    gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, gl_->face_buffer);
+    for (std::size_t c0 = 0; c0 < nfaces; c0 += chunk) {
+        const std::size_t n = std::min(chunk, nfaces - c0);
+        t0 = Clock::now();
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+            records[i] = pack_havs_face(havs_face_constants(mesh_, fs, fs.order[c0 + i]));
+        });
+        gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(n * sizeof(GlHavsFace)), records.data(), GL_STREAM_DRAW);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, gl_->face_buffer);
+        st.setup_ms += ms_since(t0);
+        t0 = Clock::now();
+        gl.DrawElements(GL_TRIANGLES, GLsizei(3 * n), GL_UNSIGNED_INT,
+                        reinterpret_cast<const void*>(3 * c0 * sizeof(uint32_t)));
+        st.raster_fragment_ms += ms_since(t0);
+        ++st.draws;
+    }
     t0 = Clock::now();
-    gl.DrawElements(GL_TRIANGLES, GLsizei(indices.size()), GL_UNSIGNED_INT, nullptr);
     gl.Finish();
     ctx_.check_error("the HAVS geometry pass");
-    st.raster_fragment_ms = ms_since(t0);
+    st.raster_fragment_ms += ms_since(t0);
 
     // The flush passes: k full-screen passes of the flush fragment.
     t0 = Clock::now();

@@ -5,7 +5,8 @@
 // flush passes. docs/gl-backend.md.
 //
 // Per frame: the faces' vertex indices in sorted order go to an element buffer and their constants (GlHavsFace, in
-// the same order) to a shader storage buffer indexed by gl_PrimitiveID; one glDrawElements draws them all.
+// the same order) to a shader storage buffer indexed by gl_PrimitiveID; glDrawElements draws them, in one call or,
+// for meshes whose constants exceed the storage block size, in consecutive chunks.
 #pragma once
 
 #include <memory>
@@ -37,6 +38,11 @@ public:
     // asked for, two entries in each of the others.
     static int max_k(const GlInfo& info, bool diagnostics);
 
+    // Faces drawn per draw call: as many as GL_MAX_SHADER_STORAGE_BLOCK_SIZE bytes of face constants hold (128 MiB on
+    // llvmpipe: 671,088 faces), or `n` when set (tests; 0 goes back to the limit).
+    std::size_t faces_per_draw() const;
+    void set_faces_per_draw(std::size_t n) { faces_per_draw_ = n; }
+
     const HavsMesh& cpu_stage() const { return mesh_; }
     const GlContext& context() const { return ctx_; }
 
@@ -45,6 +51,7 @@ private:
     GlContext& ctx_;
     HavsMesh mesh_;
     bool diagnostics_;
+    std::size_t faces_per_draw_ = 0;
     std::unique_ptr<Objects> gl_;
 };
 

@@ -22,6 +22,7 @@ struct HavsStats {
     uint32_t max_held = 0;       // most entries held at once on one pixel
     double sort_ms = 0, setup_ms = 0, raster_fragment_ms = 0, flush_ms = 0, table_ms = 0;
     double readback_ms = 0;  // the GL backend's glReadPixels (0 in the emulation)
+    uint32_t draws = 0;      // the GL backend's geometry draw calls
 };
 
 struct HavsFrame {

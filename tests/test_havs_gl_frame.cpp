@@ -73,13 +73,14 @@ double rmse(const Image& a, const Image& b)
 
 // Renders `cam` with both backends at every k of `ks` and requires bit identity.
 void require_identical(const Scene& s, const Camera& cam, int width, int height, std::initializer_list<int> ks,
-                       bool diagnostics = true, GlContext& ctx = osmesa())
+                       bool diagnostics = true, GlContext& ctx = osmesa(), std::size_t faces_per_draw = 0)
 {
     for (int k : ks) {
         HavsOptions o;
         o.k = k;
         const HavsFrame emu = HavsRenderer(s.mesh, s.topo, s.field, s.tf, o).render(cam, width, height);
         GlHavsRenderer gl(ctx, s.mesh, s.topo, s.field, s.tf, o, diagnostics);
+        gl.set_faces_per_draw(faces_per_draw);
         const HavsFrame frame = gl.render(cam, width, height);
         const FrameDiff d = diff(frame, emu);
         INFO("k = " << k << ", " << width << " x " << height << ", view " << cam.eye.x << " " << cam.eye.y << " "
@@ -87,6 +88,7 @@ void require_identical(const Scene& s, const Camera& cam, int width, int height,
                     << " (GL), " << emu.stats.ordering_errors << " ordering errors");
         INFO(d.differing << " of " << d.pixels << " pixels differ; " << d.first);
         REQUIRE(emu.stats.fragments > 0);
+        if (faces_per_draw) CHECK(frame.stats.draws == (frame.stats.faces + faces_per_draw - 1) / faces_per_draw);
         CHECK(d.differing == 0);
         CHECK(d.coverage_differs == 0);
         if (diagnostics) {
@@ -124,6 +126,11 @@ TEST_CASE("the GL HAVS frame equals the emulated frame bit for bit")
         const Scene s = test::oxygen_post();
         for (const auto& [az, el] : {std::pair{0.0, 0.0}, {60.0, -20.0}})
             require_identical(s, default_camera(mesh_bounds(s.mesh), 1.0, az, el), 192, 256, {1, 2, 6, kmax});
+    }
+    SECTION("the faces in many draws (as a mesh beyond the storage block size is drawn)")
+    {
+        const Scene s = test::oxygen_post();
+        require_identical(s, default_camera(mesh_bounds(s.mesh), 1.0, 0.0, 0.0), 192, 256, {6}, true, osmesa(), 100000);
     }
     SECTION("k = 14: every draw buffer holds entries (no diagnostics)")
     {
