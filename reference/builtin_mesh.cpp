@@ -1,5 +1,7 @@
 #include "reference/builtin_mesh.h"
 
+#include <cstdlib>
+
 #include <cmath>
 #include <vector>
 
@@ -93,7 +95,17 @@ TetMesh load_builtin(const std::string& path)
 {
     if (path == "builtin:torus") return builtin_torus(kBuiltinTorusTets);
     if (path == "builtin:torus-small") return builtin_torus(kBuiltinTorusSmallTets);
-    throw InputError(path, "unknown built-in data set (known: builtin:torus, builtin:torus-small)");
+    // builtin:torus-N: about N tetrahedra (the scaling study's meshes).
+    const std::string prefix = "builtin:torus-";
+    if (path.rfind(prefix, 0) == 0) {
+        const std::string digits = path.substr(prefix.size());
+        char* end = nullptr;
+        const unsigned long long n = std::strtoull(digits.c_str(), &end, 10);
+        if (!digits.empty() && *end == 0 && n >= 100 && n <= kBuiltinTorusMaxTets) return builtin_torus(std::size_t(n));
+        throw InputError(path, "builtin:torus-N takes a tetrahedron count N from 100 to " +
+                                   std::to_string(kBuiltinTorusMaxTets));
+    }
+    throw InputError(path, "unknown built-in data set (known: builtin:torus, builtin:torus-small, builtin:torus-N)");
 }
 
 }  // namespace uvr

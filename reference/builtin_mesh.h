@@ -21,12 +21,14 @@ double builtin_torus_field(const glm::dvec3& p);
 // A torus of roughly `target_tets` tetrahedra (the exact count is whatever TetGen makes of the size constraint).
 TetMesh builtin_torus(std::size_t target_tets);
 
-// Pseudo-paths understood by load_dataset(): "builtin:torus" (the demo mesh, about 100 K tetrahedra) and
-// "builtin:torus-small" (about 5 K, for fast tests). Returns true and fills `mesh` when `path` is one of them.
+// Pseudo-paths understood by load_dataset(): "builtin:torus" (the demo mesh, about 100 K tetrahedra),
+// "builtin:torus-small" (about 5 K, for fast tests) and "builtin:torus-N" (about N, 100 <= N <= kBuiltinTorusMaxTets:
+// the scaling study). Returns true and fills `mesh` when `path` is one of them.
 bool is_builtin_path(const std::string& path);
 TetMesh load_builtin(const std::string& path);
 
 inline constexpr std::size_t kBuiltinTorusTets = 100000;
 inline constexpr std::size_t kBuiltinTorusSmallTets = 5000;
+inline constexpr std::size_t kBuiltinTorusMaxTets = 20000000;
 
 }  // namespace uvr

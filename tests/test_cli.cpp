@@ -105,6 +105,15 @@ TEST_CASE("bad input makes uvr exit non-zero with a message naming the file, nev
         const CommandResult r = run_uvr("info");
         CHECK(r.exit_code == 2);
     }
+    SECTION("a built-in mesh that does not exist, or a size out of range")
+    {
+        for (const char* path : {"builtin:cube", "builtin:torus-50", "builtin:torus-9x", "builtin:torus-"}) {
+            const CommandResult r = run_uvr(std::string("info ") + path);
+            INFO(path << ": " << r.err);
+            CHECK(r.exit_code == 1);
+            CHECK_THAT(r.err, Catch::Contains(path) && Catch::Contains("builtin:torus-N"));
+        }
+    }
     SECTION("--camera and --view together")
     {
         uvr::test::TempDir tmp("camview");
