@@ -20,8 +20,9 @@ HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t fi
                    const HavsOptions& options)
     : mesh_(mesh), options_(options), integrator_(tf), range_(field_range(mesh.fields.at(field)))
 {
+    origin_ = mesh_bounds(mesh).center();
     points_f_.reserve(mesh.points.size());
-    for (const auto& p : mesh.points) points_f_.push_back(glm::vec3(p));
+    for (const auto& p : mesh.points) points_f_.push_back(glm::vec3(p - origin_));
     const double span = range_.hi > range_.lo ? range_.hi - range_.lo : 1.0;
     for (double s : mesh.fields[field].values) scalar_n_.push_back((s - range_.lo) / span);
     // Welded points (a coincident twin exists): a boundary face made only of them lies on a seam inside the mesh (the
@@ -65,13 +66,13 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
     auto t0 = Clock::now();
     std::vector<float> keys;
     std::vector<uint32_t> scratch;
-    face_sort_keys(hm.points_f(), hm.faces(), glm::vec3(cam.eye), keys);
+    face_sort_keys(hm.points_f(), hm.faces(), glm::vec3(cam.eye - hm.origin()), keys);
     radix_sort_faces(keys, fs.order, scratch);
     fs.sort_ms = ms_since(t0);
 
     // The vertex stage for every point.
     t0 = Clock::now();
-    fs.view = view_setup(cam, width, height, mesh_bounds(hm.mesh()));
+    fs.view = view_setup(cam, width, height, mesh_bounds(hm.mesh()), hm.origin());
     const Framebuffer fbuf{width, height, RenderTarget::fbo};
     const auto& pts = hm.points_f();
     fs.win.resize(pts.size());
@@ -80,7 +81,8 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
     tbb::parallel_for(std::size_t(0), pts.size(), [&](std::size_t i) {
         const auto clip = clip_position(fs.view.mvp, pts[i]);
         fs.win[i] = viewport_transform(clip.data(), fbuf);
-        window_position_d(fs.view, hm.mesh().points[i], width, height, fs.win_d[i].x, fs.win_d[i].y, fs.win_d[i].z);
+        window_position_d(fs.view, hm.mesh().points[i] - hm.origin(), width, height, fs.win_d[i].x, fs.win_d[i].y,
+                          fs.win_d[i].z);
         fs.eye[i] = eye_position(cam, hm.mesh().points[i]);
     });
 

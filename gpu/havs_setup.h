@@ -1,6 +1,7 @@
 // HAVS's CPU stage, shared by the emulated driver (havs.cpp) and the GL driver (gl_havs.cpp), so that both draw the
 // same faces in the same order with the same constants:
-//   - once per mesh (HavsMesh): float vertex positions (the vertex buffer), normalized scalars, the unique faces with
+//   - once per mesh (HavsMesh): float vertex positions relative to the mesh's centre (the vertex buffer), normalized
+//     scalars, the unique faces with
 //     their boundary marks, the longest edge, the pre-integration table;
 //   - once per frame (setup_havs_frame): the faces sorted front to back (face_sort), every vertex through the vertex
 //     stage (havs_vertex: float clip -> window coordinates as llvmpipe's draw module computes them, and the double
@@ -51,7 +52,9 @@ public:
     const SegmentIntegrator& integrator() const { return integrator_; }
     const Range& range() const { return range_; }
     double longest_edge() const { return longest_edge_; }
+    // The vertex buffer: float positions relative to origin() (the centre of the mesh's bounds; see view_setup).
     const std::vector<glm::vec3>& points_f() const { return points_f_; }
+    const glm::dvec3& origin() const { return origin_; }
     const std::vector<uint32_t>& faces() const { return faces_; }  // 3 point indices per unique face
     std::size_t face_count() const { return faces_.size() / 3; }
     const PreintegrationTable* table() const { return table_.get(); }  // null with --segment exact
@@ -67,6 +70,7 @@ private:
     SegmentIntegrator integrator_;
     Range range_;
     double longest_edge_ = 0.0;
+    glm::dvec3 origin_{0.0};
     std::vector<glm::vec3> points_f_;
     std::vector<double> scalar_n_;
     std::vector<uint32_t> faces_;

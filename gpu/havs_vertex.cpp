@@ -30,14 +30,17 @@ Mat4f to_float(const Mat4d& m)
     return f;
 }
 
-Mat4d view_matrix(const Camera& cam)
+// The view matrix of points given relative to `origin` (the model matrix's translation folded in): the eye's offset
+// from the origin is formed in double before anything else, so no large coordinate meets a small one in float.
+Mat4d view_matrix(const Camera& cam, const glm::dvec3& origin)
 {
     const CameraFrame fr = camera_frame(cam);
     Mat4d v{};
     const glm::dvec3 rows[3] = {fr.r, fr.u, -fr.f};
+    const glm::dvec3 eye = cam.eye - origin;
     for (int r = 0; r < 3; ++r) {
         for (int c = 0; c < 3; ++c) v[c][r] = rows[r][c];
-        v[3][r] = -glm::dot(rows[r], cam.eye);
+        v[3][r] = -glm::dot(rows[r], eye);
     }
     v[3][3] = 1.0;
     return v;
@@ -52,7 +55,7 @@ glm::dvec3 eye_position(const Camera& cam, const glm::dvec3& p)
     return {glm::dot(fr.r, d), glm::dot(fr.u, d), -glm::dot(fr.f, d)};
 }
 
-ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b)
+ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, const glm::dvec3& origin)
 {
     // Depth range: the bounds' corners along the view direction, widened by 1 % of the bounds' size.
     const CameraFrame fr = camera_frame(cam);
@@ -85,7 +88,7 @@ ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b)
         p[2][3] = -1.0;
         p[3][2] = -2.0 * f * n / (f - n);
     }
-    const Mat4d v = view_matrix(cam);
+    const Mat4d v = view_matrix(cam, origin);
     const Mat4d mvp = multiply(p, v);
     return {to_float(v), to_float(p), to_float(mvp), mvp};
 }

@@ -27,12 +27,15 @@ struct ViewSetup {
 
 // Near and far planes enclose `bounds` seen from the camera (with a margin), so the draw module never clips a face
 // of the mesh in depth. Throws InputError when the eye is inside or too close to the bounds for a near plane.
-ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& bounds);
+// The matrices take points relative to `origin` (a model matrix's translation): the vertex buffer holds p - origin in
+// float, so that a mesh far from the world's origin (coordinates at 1e8, features at 1e-3) keeps its features, as a
+// GPU application would do it. HAVS passes the centre of the mesh's bounds.
+ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& bounds, const glm::dvec3& origin);
 
 // clip = mvp * vec4(p, 1): each row as ((m0 * x + m1 * y) + m2 * z) + m3, float32, unfused.
 std::array<float, 4> clip_position(const Mat4f& mvp, const glm::vec3& p);
 
-// Window coordinates (GL: origin bottom-left) and 1 / w of a point, in double, for a glViewport(0, 0, width, height):
+// Window coordinates (GL: origin bottom-left) and 1 / w of a point given relative to the setup's origin, in double, for a glViewport(0, 0, width, height):
 // the geometry the fragment stage's barycentric weights use. The rasterizer's own float coordinates
 // (viewport_transform) agree with these to their rounding.
 void window_position_d(const ViewSetup& vs, const glm::dvec3& p, int width, int height, double& x, double& y,

@@ -172,3 +172,16 @@ TEST_CASE("HAVS refuses a camera inside the mesh's bounds with a clear error")
     const HavsRenderer havs(s.mesh, s.topo, s.field, s.tf, HavsOptions{});
     test::require_input_error([&] { havs.render(cam, 32, 32); }, {"camera is inside"});
 }
+
+TEST_CASE("far from the origin: HAVS on coordinates at 1e8 with features at 1e-3 still equals the reference")
+{
+    // The small torus moved to 1e8 and shrunk to features of 1e-3: the vertex buffer holds positions relative to the
+    // mesh's centre (view_setup's origin), as a GPU application would, so float keeps the features.
+    TetMesh mesh = load_builtin("builtin:torus-small");
+    for (auto& p : mesh.points) p = glm::dvec3(1e8) + p * 1e-3;
+    const Scene s = make_scene(std::move(mesh), 0);
+    const Errors e = converge(s, default_camera(mesh_bounds(s.mesh), 1.0, 35.0, 40.0), 160);
+    INFO("RMSE " << e.rmse << ", max " << e.max << ", pixels over " << kConvergenceMax << ": " << e.over_max);
+    CHECK(e.rmse <= kConvergenceRmse);
+    CHECK(e.max <= kConvergenceMax);
+}

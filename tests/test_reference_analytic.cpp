@@ -315,3 +315,36 @@ TEST_CASE("a camera inside the mesh, or exactly on its boundary, sees the analyt
         if (std::string(c.what).find("looking out") == std::string::npos) CHECK(largest_alpha > 0.1);
     }
 }
+
+TEST_CASE("far from the origin: coordinates at 1e8 with features at 1e-3 keep Beer-Lambert")
+{
+    // The box of the first test scaled to cells of 1e-3 and moved to 1e8: its features are 1e-11 of its coordinates.
+    constexpr double kOffset = 1e8, kCell = 1e-3;
+    TetMesh mesh = box_mesh(6, [](const glm::dvec3&) { return 0.5; }, 0.2);
+    for (auto& p : mesh.points) p = glm::dvec3(kOffset) + p * kCell;
+    const MeshTopology topo = build_topology(mesh);
+    const double tau = 0.3 / kCell;
+    const glm::dvec3 c(0.9, 0.6, 0.3);
+    const RayIntegrator ri(mesh, topo, 0, homogeneous(tau, c));
+    const Camera cam = default_camera(mesh_bounds(mesh), 1.0, 33.0, 16.5);
+    ReferenceStats stats;
+    const Image img = render_reference(ri, cam, 48, 48, stats);
+    CHECK(stats.failures == 0);
+    double worst = 0.0, largest_alpha = 0.0;
+    for (int j = 0; j < 48; ++j)
+        for (int i = 0; i < 48; ++i) {
+            const Ray r = camera_ray(cam, 48, 48, i, j);
+            double t0, t1;
+            const double len =
+                box_chord(r, glm::dvec3(kOffset), glm::dvec3(kOffset + 6.0 * kCell), t0, t1) ? t1 - t0 : 0.0;
+            const double alpha = 1.0 - std::exp(-tau * len);
+            largest_alpha = std::max(largest_alpha, alpha);
+            worst = std::max(worst, std::fabs(img.pixel(i, j)[3] - alpha));
+            for (int k = 0; k < 3; ++k) worst = std::max(worst, std::fabs(img.pixel(i, j)[k] - c[k] * alpha));
+        }
+    INFO("largest error " << worst << ", largest alpha " << largest_alpha);
+    // The same tolerance as at the origin: the walk forms every plane distance from differences of nearby points
+    // (a - origin, exact for points within a factor of two of each other), so coordinates at 1e8 cost no precision.
+    CHECK(worst <= kPixelTolerance);
+    CHECK(largest_alpha > 0.5);
+}
