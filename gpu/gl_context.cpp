@@ -91,6 +91,14 @@ struct GlContext::Impl {
 
     void create_osmesa(std::string& detail)
     {
+        // Mesa 22.3's OSMesaCreateContextAttribs crashes (a null dispatch table, in glLabelObjectEXT) when the
+        // GALLIUM_DRIVER environment variable names a driver it does not have, instead of failing: refuse first.
+        if (const char* d = std::getenv("GALLIUM_DRIVER"); d && *d) {
+            const std::string driver = d;
+            if (driver != "llvmpipe" && driver != "softpipe")
+                throw InputError("", "OSMesa: GALLIUM_DRIVER=" + driver + " names a driver OSMesa does not have "
+                                     "(llvmpipe, softpipe); unset it (Mesa 22.3 would crash on it)");
+        }
         const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_STENCIL_BITS, 0,
                                OSMESA_ACCUM_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
                                OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};

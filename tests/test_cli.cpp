@@ -243,3 +243,29 @@ TEST_CASE("uvr render --algo havs --backend gl writes the emulation's image and 
         }
     }
 }
+
+TEST_CASE("no GL context: --backend gl fails with a clear error and writes nothing, never crashes")
+{
+    TempDir tmp("cli-nogl");
+    const std::string out = tmp.file("never.npy");
+    const std::string args = "render builtin:torus-small --algo havs --backend gl --size 32x32 --out '" + out + "' ";
+    SECTION("EGL without a vendor library (glvnd finds no driver)")
+    {
+        setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/vendor.json", 1);
+        const CommandResult r = run_uvr(args + "--gl egl");
+        unsetenv("__EGL_VENDOR_LIBRARY_FILENAMES");
+        INFO(r.err);
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains("EGL: cannot create an OpenGL 4.5 core-profile context"));
+    }
+    SECTION("OSMesa asked for a driver it does not have (Mesa 22.3 itself would crash)")
+    {
+        setenv("GALLIUM_DRIVER", "nonexistent", 1);
+        const CommandResult r = run_uvr(args + "--gl osmesa");
+        unsetenv("GALLIUM_DRIVER");
+        INFO(r.err);
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains("GALLIUM_DRIVER=nonexistent"));
+    }
+    CHECK(!std::filesystem::exists(out));
+}

@@ -1,5 +1,8 @@
 // Image files: .npy round trip, PNG compositing, atomic writes.
+#include <csignal>
 #include <filesystem>
+
+#include <sys/resource.h>
 
 #include "reference/image.h"
 #include "test_support.h"
@@ -49,6 +52,40 @@ TEST_CASE("an output that cannot be written is an error and leaves nothing behin
     require_input_error([&] { write_image(tmp.file("missing-dir/a.npy"), img); }, {"missing-dir/a.npy", "cannot write"});
     require_input_error([&] { write_image(tmp.file("a.tiff"), img); }, {"a.tiff", "unsupported image extension"});
     CHECK(std::filesystem::is_empty(tmp.file("")));
+}
+
+TEST_CASE("a write that runs out of space is an error, leaves nothing behind and keeps the old file")
+{
+    // A full disk, simulated by a file-size limit: past it write() fails (EFBIG once SIGXFSZ is ignored), the same
+    // failure path as ENOSPC in write_file_atomically (fwrite or fclose fails, the temporary file is removed).
+    TempDir tmp("full");
+    Image small(2, 2), large(64, 64);
+    small.pixel(0, 0)[0] = 0.5f;
+    write_image(tmp.file("a.npy"), small);
+    const std::string before = uvr::test::file_contents(tmp.file("a.npy"));
+    rlimit old{};
+    REQUIRE(getrlimit(RLIMIT_FSIZE, &old) == 0);
+    auto* previous = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit tight = old;
+    tight.rlim_cur = 4096;  // the large image's .npy is 65,664 bytes
+    REQUIRE(setrlimit(RLIMIT_FSIZE, &tight) == 0);
+    bool threw = false;
+    std::string what;
+    try {
+        write_image(tmp.file("a.npy"), large);
+    } catch (const InputError& e) {
+        threw = true;
+        what = e.what();
+    }
+    setrlimit(RLIMIT_FSIZE, &old);
+    std::signal(SIGXFSZ, previous);
+    INFO(what);
+    CHECK(threw);
+    CHECK(what.find("cannot write") != std::string::npos);
+    CHECK(uvr::test::file_contents(tmp.file("a.npy")) == before);  // the old file is whole
+    std::size_t files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(tmp.file(""))) files += e.is_regular_file() ? 1 : 0;
+    CHECK(files == 1);  // no temporary left behind
 }
 
 TEST_CASE("a .npy that is not float32 RGBA is rejected")
