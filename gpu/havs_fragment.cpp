@@ -17,6 +17,7 @@ FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace
     const bool inside = sum > 0.0 ? (e0 >= lim && e1 >= lim && e2 >= lim) : (e0 <= lim && e1 <= lim && e2 <= lim);
     FragmentValues out;
     out.snapped = !inside;
+    out.outside = sum > 0.0 ? (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) : (e0 > 0.0 || e1 > 0.0 || e2 > 0.0);
     if (!inside) {
         // Covered only because of snapping: the snapped triangle's exact edge functions (fixed value 256 * p is
         // pixel p's centre).
@@ -40,7 +41,8 @@ FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace
     const double dx = px - ndc_x * fc.origin_x, dy = py - ndc_y * fc.origin_y;
     const double distance = std::sqrt((dx * dx + dy * dy) + pz * pz);
     const double s = (l0 * f.s[0] + l1 * f.s[1]) + l2 * f.s[2];
-    out.x = f.side * (1.0 + s);
+    const double side = f.side == kSideInterior && out.outside ? kSideOutside : f.side;
+    out.x = side * (1.0 + s);
     out.distance = distance;
     return out;
 }
@@ -58,7 +60,7 @@ bool real_entry(const KEntry& e) { return e.y > 0.0f && e.y < __builtin_inff(); 
 float decode_scalar(float x)
 {
     const float m = std::fabs(x);
-    return m < kSideEntry ? m - 1.0f : m * 0.25f - 1.0f;
+    return m < kSideOutside ? m - 1.0f : m < kSideEntry ? m * 0.25f - 1.0f : m * 0.0625f - 1.0f;
 }
 }  // namespace
 
@@ -113,13 +115,15 @@ bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm
         const float t_z = length * fc.length_scale + fc.length_bias;
         c = shade(decode_scalar(front.x), decode_scalar(second.x), t_z, length);
     }
-    // Exact gaps: behind an exit face the ray is outside the mesh until it meets an entry face, so an interior face's
-    // fragment right behind an exit lies where no interior face is. Rasterization puts one there: a pixel just past
-    // the edge where interior faces meet the exit face is covered through snapping, and their planes, extrapolated
-    // at a grazing angle, place the fragment a little behind the exit (2e-5 and 3e-4 units on a torus pixel,
-    // docs/havs.md), which would composite a segment outside the mesh. Such an entry is marked an exit in the buffer,
-    // so that the segment starting on it is a gap too.
-    if (real_entry(front) && front.x < 0.0f && real_entry(second) && second.x > 0.0f && second.x < kSideEntry)
+    // Exact gaps: behind an exit face the ray is outside the mesh until it meets an entry face. Rasterization can put
+    // a fragment there: a pixel just past the edge where interior faces meet the exit face is covered through
+    // snapping, and their planes, extrapolated at a grazing angle, place the fragment a little behind the exit (2e-5
+    // and 3e-4 units on a torus pixel, docs/havs.md), which would composite a segment outside the mesh. Such a
+    // fragment, extrapolated (kSideOutside) and right behind an exit, is marked an exit in the buffer, so that the
+    // segment starting on it is a gap too. A fragment inside its own triangle is left alone: behind an exit it is a
+    // real one that arrived late (an ordering error), and its segment is real.
+    if (real_entry(front) && front.x < 0.0f && real_entry(second) && second.x >= kSideOutside &&
+        second.x < kSideEntry)
         rx[second_i] = -rx[second_i];
     // Ordering: in front-to-back order each segment starts where the previous one ended. A front nearer than the
     // previous segment's back means a fragment arrived after the segment across it was composited.

@@ -26,12 +26,13 @@
 //
 // Entry encoding. An entry is (x, y) = (encoded scalar, distance). x = side * (1 + s_n): s_n in [0, 1] the
 // normalized scalar, side kSideExit (-1) for a boundary face the ray leaves the mesh through (exact gaps: a segment
-// that starts there is a gap and is nullified, as the seed nullifies entries with x < 0), kSideEntry (4) for a
-// boundary face the ray enters through (exact gaps), kSideInterior (1) otherwise. Decoding: |x| - 1, or
-// |x| * 0.25 - 1 for |x| >= 4; both exact (Sterbenz; a power-of-two scale), and 4 (1 + s_n) rounds exactly as 1 + s_n,
-// so an entry face's scalar decodes to the same bits as an interior face's. 1 + s_n rounds s_n to 2^-23 of the range.
-// The entry mark lets the program tell, behind an exit, an interior fragment (an artefact: see havs_kbuffer) from
-// the next entry into the mesh. An empty entry is (-1, 0): it is selected first, and its segment nullified, so the first k fragments of a
+// that starts there is a gap and is nullified, as the seed nullifies entries with x < 0), kSideEntry (16) for a
+// boundary face the ray enters through (exact gaps), kSideOutside (4) for any other face's fragment at a pixel centre
+// outside the face's own triangle (covered only through snapping: its position is extrapolated), kSideInterior (1)
+// otherwise. The ranges [1, 2], [4, 8] and [16, 32] do not touch, and decoding |x| - 1, |x| / 4 - 1 or |x| / 16 - 1 is
+// exact (Sterbenz; power-of-two scales), so every kind decodes to the same scalar bits. 1 + s_n rounds s_n to 2^-23 of
+// the range. The marks let the program tell, behind an exit, an extrapolated fragment (an artefact: see havs_kbuffer)
+// from a real one, and a segment that ends where the ray enters the mesh. An empty entry is (-1, 0): it is selected first, and its segment nullified, so the first k fragments of a
 // pixel fill the buffer. A flush fragment is (-1, +inf); a segment that ends on one is nullified too (see
 // havs_kbuffer).
 #pragma once
@@ -45,7 +46,7 @@
 
 namespace uvr::gpu {
 
-inline constexpr float kSideExit = -1.0f, kSideInterior = 1.0f, kSideEntry = 4.0f;
+inline constexpr float kSideExit = -1.0f, kSideInterior = 1.0f, kSideOutside = 4.0f, kSideEntry = 16.0f;
 
 struct KEntry {
     float x = -1.0f;  // encoded scalar
@@ -84,11 +85,13 @@ struct HavsFace {
 inline constexpr double kOutsideTolerance = 0.1;
 
 // The fragment values in double before the k-buffer stores them as float32: x = side * (1 + s_n) and the distance;
-// `snapped` says whether the weights came from the snapped vertices (kOutsideTolerance). The GL stage test compares
+// `snapped` says whether the weights came from the snapped vertices (kOutsideTolerance), `outside` whether the pixel
+// centre lies outside the face's triangle at all (then an interior face's side becomes kSideOutside). The GL stage test compares
 // the shader's doubles with these.
 struct FragmentValues {
     double x = 0.0, distance = 0.0;
     bool snapped = false;
+    bool outside = false;
 };
 FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace& face, int px, int py);
 

@@ -31,13 +31,18 @@ struct HavsFace {
     double s[3];      // normalized scalars
     int fx[3];        // the rasterizer's snapped vertices (24.8 fixed point)
     int fy[3];
-    float side;       // -1 exit, 1 interior, 4 entry face (kSideExit, kSideInterior, kSideEntry)
+    float side;       // -1 exit, 1 interior, 16 entry face (kSideExit, kSideInterior, kSideEntry)
     float pad;
 };
 layout(std430, binding = 0) readonly buffer HavsFaces { HavsFace havs_faces[]; };
 
 // kOutsideTolerance of gpu/havs_fragment.h.
 const double havs_outside_tolerance = 0.1lf;
+
+// kSideOutside and kSideEntry of gpu/havs_fragment.h: an extrapolated fragment's side (|x| in [4, 8]) and an entry
+// face's (|x| in [16, 32]).
+const float havs_side_outside = 4.0;
+const float havs_side_entry = 16.0;
 
 // The snapped triangle's edge function from vertex a to vertex b at the fixed-point pixel centre (cx, cy): exact in
 // 64-bit integers, as the emulation's lambda `edge`.
@@ -61,6 +66,7 @@ dvec2 havs_fragment_values(HavsFace f, ivec2 pix)
     precise double lim = -havs_outside_tolerance * sum;
     precise bool positive = sum > 0.0lf;
     precise bool inside = positive ? (e0 >= lim && e1 >= lim && e2 >= lim) : (e0 <= lim && e1 <= lim && e2 <= lim);
+    precise bool outside = positive ? (e0 < 0.0lf || e1 < 0.0lf || e2 < 0.0lf) : (e0 > 0.0lf || e1 > 0.0lf || e2 > 0.0lf);
     if (!inside) {
         // Covered only because of snapping: the snapped triangle's exact edge functions.
         int64_t cx = int64_t(pix.x) * int64_t(256), cy = int64_t(pix.y) * int64_t(256);
@@ -84,7 +90,8 @@ dvec2 havs_fragment_values(HavsFace f, ivec2 pix)
     precise double dy = py - ndc_y * havs_origin_y;
     precise double distance = sqrt((dx * dx + dy * dy) + pz * pz);
     precise double s = (l0 * f.s[0] + l1 * f.s[1]) + l2 * f.s[2];
-    precise double x = double(f.side) * (1.0lf + s);
+    precise double side = f.side == 1.0 && outside ? double(havs_side_outside) : double(f.side);
+    precise double x = side * (1.0lf + s);
     return dvec2(x, distance);
 }
 
@@ -106,8 +113,6 @@ vec4 havs_table_lookup(float u_front, float u_back, float t_z)
     return texture(havs_table, vec3(u_front, u_back, t_z));
 }
 
-// kSideEntry of gpu/havs_fragment.h: the side of an entry face; |x| >= 4 marks its entries.
-const float havs_side_entry = 4.0;
 
 bool havs_real_entry(vec2 e) { return e.y > 0.0 && e.y < uintBitsToFloat(0x7f800000u); }
 
@@ -115,7 +120,7 @@ bool havs_real_entry(vec2 e) { return e.y > 0.0 && e.y < uintBitsToFloat(0x7f800
 float havs_decode_scalar(float x)
 {
     precise float m = abs(x);
-    precise float u = m < havs_side_entry ? m - 1.0 : m * 0.25 - 1.0;
+    precise float u = m < havs_side_outside ? m - 1.0 : m < havs_side_entry ? m * 0.25 - 1.0 : m * 0.0625 - 1.0;
     return u;
 }
 
@@ -169,8 +174,8 @@ bool havs_kbuffer(vec2 a0, inout vec2 a[HAVS_K], inout vec4 fb)
         precise float t_z = seg_length * havs_length_scale + havs_length_bias;
         c = havs_shade(havs_decode_scalar(r[0].x), havs_decode_scalar(second.x), t_z, seg_length);
     }
-    // Exact gaps: an interior face's fragment right behind an exit is marked an exit too (havs_fragment.cpp).
-    bool mark = havs_real_entry(r[0]) && r[0].x < 0.0 && havs_real_entry(second) && second.x > 0.0 &&
+    // Exact gaps: an extrapolated fragment right behind an exit is marked an exit too (havs_fragment.cpp).
+    bool mark = havs_real_entry(r[0]) && r[0].x < 0.0 && havs_real_entry(second) && second.x >= havs_side_outside &&
                 second.x < havs_side_entry;
 #ifdef HAVS_DIAGNOSTICS
     if (havs_real_entry(r[0])) {

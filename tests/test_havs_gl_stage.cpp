@@ -130,11 +130,11 @@ struct KBufferGen {
         }
     }
     float scalar() { return pick(16) == 0 ? float(pick(2)) : uni(0.0f, 1.0f); }
-    // Exit (1 in 5), entry (1 in 5) and interior faces' entries.
+    // Exit, entry and extrapolated faces' entries (1 in 5 each), interior faces' (2 in 5).
     float side()
     {
         const int p = pick(5);
-        return p == 0 ? kSideExit : p == 1 ? kSideEntry : kSideInterior;
+        return p == 0 ? kSideExit : p == 1 ? kSideEntry : p == 2 ? kSideOutside : kSideInterior;
     }
     KEntry real() { return {side() * (1.0f + scalar()), distance()}; }
     KEntry stored()
