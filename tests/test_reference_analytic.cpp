@@ -69,6 +69,32 @@ TransferFunction homogeneous(double tau, glm::dvec3 c)
     return tf;
 }
 
+// Every pixel of `img` against the premultiplied RGBA `expected` gives its camera ray: the largest channel error, and
+// the largest expected alpha (so that a test can require that the scene is not empty).
+struct PixelCheck {
+    double worst = 0.0, largest_alpha = 0.0;
+};
+PixelCheck check_pixels(const Image& img, const Camera& cam, const std::function<glm::dvec4(const Ray&)>& expected)
+{
+    PixelCheck pc;
+    for (int j = 0; j < img.height; ++j)
+        for (int i = 0; i < img.width; ++i) {
+            const glm::dvec4 e = expected(camera_ray(cam, img.width, img.height, i, j));
+            pc.largest_alpha = std::max(pc.largest_alpha, e.a);
+            for (int k = 0; k < 4; ++k) pc.worst = std::max(pc.worst, std::fabs(img.pixel(i, j)[k] - e[k]));
+        }
+    return pc;
+}
+
+// Beer-Lambert along the chord of the box [lo, hi]: colour c, extinction tau.
+glm::dvec4 beer_lambert(const Ray& r, const glm::dvec3& lo, const glm::dvec3& hi, double tau, const glm::dvec3& c)
+{
+    double t0, t1;
+    const double len = box_chord(r, lo, hi, t0, t1) ? t1 - t0 : 0.0;
+    const double alpha = 1.0 - std::exp(-tau * len);
+    return glm::dvec4(c * alpha, alpha);
+}
+
 }  // namespace
 
 TEST_CASE("a homogeneous box follows Beer-Lambert at every pixel")
@@ -83,16 +109,9 @@ TEST_CASE("a homogeneous box follows Beer-Lambert at every pixel")
         ReferenceStats stats;
         const Image img = render_reference(ri, cam, 48, 48, stats);
         CHECK(stats.failures == 0);
-        double worst = 0.0;
-        for (int j = 0; j < 48; ++j)
-            for (int i = 0; i < 48; ++i) {
-                const Ray r = camera_ray(cam, 48, 48, i, j);
-                double t0, t1;
-                const double len = box_chord(r, glm::dvec3(0.0), glm::dvec3(6.0), t0, t1) ? t1 - t0 : 0.0;
-                const double alpha = 1.0 - std::exp(-tau * len);
-                worst = std::max(worst, std::fabs(img.pixel(i, j)[3] - alpha));
-                for (int k = 0; k < 3; ++k) worst = std::max(worst, std::fabs(img.pixel(i, j)[k] - c[k] * alpha));
-            }
+        const double worst =
+            check_pixels(img, cam, [&](const Ray& r) { return beer_lambert(r, glm::dvec3(0.0), glm::dvec3(6.0), tau, c); })
+                .worst;
         INFO("azimuth " << az << ": largest error " << worst);
         CHECK(worst <= kPixelTolerance);
     }
@@ -114,16 +133,13 @@ TEST_CASE("a globally linear field across a box gives each ray one analytic segm
     ReferenceStats stats;
     const Image img = render_reference(ri, cam, 40, 40, stats);
     CHECK(stats.failures == 0);
-    double worst = 0.0;
-    for (int j = 0; j < 40; ++j)
-        for (int i = 0; i < 40; ++i) {
-            const Ray r = camera_ray(cam, 40, 40, i, j);
-            double t0, t1;
-            glm::dvec4 expected(0.0);
-            if (box_chord(r, glm::dvec3(0.0), glm::dvec3(6.0), t0, t1))
-                expected = seg.integrate(field(r.origin + t0 * r.dir), field(r.origin + t1 * r.dir), t1 - t0);
-            for (int k = 0; k < 4; ++k) worst = std::max(worst, std::fabs(img.pixel(i, j)[k] - expected[k]));
-        }
+    const auto chord = [&](const Ray& r) {
+        double t0, t1;
+        return box_chord(r, glm::dvec3(0.0), glm::dvec3(6.0), t0, t1)
+                   ? seg.integrate(field(r.origin + t0 * r.dir), field(r.origin + t1 * r.dir), t1 - t0)
+                   : glm::dvec4(0.0);
+    };
+    const double worst = check_pixels(img, cam, chord).worst;
     INFO("largest error " << worst);
     CHECK(worst <= kPixelTolerance);
 }
@@ -299,17 +315,13 @@ TEST_CASE("a camera inside the mesh, or exactly on its boundary, sees the analyt
         ReferenceStats stats;
         const Image img = render_reference(ri, cam, 40, 40, stats);
         CHECK(stats.failures == 0);
-        double worst = 0.0, largest_alpha = 0.0;
-        for (int j = 0; j < 40; ++j)
-            for (int i = 0; i < 40; ++i) {
-                const Ray r = camera_ray(cam, 40, 40, i, j);
-                double t0, t1;
-                glm::dvec4 expected(0.0);
-                if (box_chord(r, glm::dvec3(0.0), glm::dvec3(6.0), t0, t1))
-                    expected = seg.integrate(field(r.origin + t0 * r.dir), field(r.origin + t1 * r.dir), t1 - t0);
-                largest_alpha = std::max(largest_alpha, expected.a);
-                for (int k = 0; k < 4; ++k) worst = std::max(worst, std::fabs(img.pixel(i, j)[k] - expected[k]));
-            }
+        const PixelCheck pc = check_pixels(img, cam, [&](const Ray& r) {
+            double t0, t1;
+            return box_chord(r, glm::dvec3(0.0), glm::dvec3(6.0), t0, t1)
+                       ? seg.integrate(field(r.origin + t0 * r.dir), field(r.origin + t1 * r.dir), t1 - t0)
+                       : glm::dvec4(0.0);
+        });
+        const double worst = pc.worst, largest_alpha = pc.largest_alpha;
         INFO("largest error " << worst << ", largest expected alpha " << largest_alpha);
         CHECK(worst <= kPixelTolerance);
         if (std::string(c.what).find("looking out") == std::string::npos) CHECK(largest_alpha > 0.1);
@@ -330,18 +342,10 @@ TEST_CASE("far from the origin: coordinates at 1e8 with features at 1e-3 keep Be
     ReferenceStats stats;
     const Image img = render_reference(ri, cam, 48, 48, stats);
     CHECK(stats.failures == 0);
-    double worst = 0.0, largest_alpha = 0.0;
-    for (int j = 0; j < 48; ++j)
-        for (int i = 0; i < 48; ++i) {
-            const Ray r = camera_ray(cam, 48, 48, i, j);
-            double t0, t1;
-            const double len =
-                box_chord(r, glm::dvec3(kOffset), glm::dvec3(kOffset + 6.0 * kCell), t0, t1) ? t1 - t0 : 0.0;
-            const double alpha = 1.0 - std::exp(-tau * len);
-            largest_alpha = std::max(largest_alpha, alpha);
-            worst = std::max(worst, std::fabs(img.pixel(i, j)[3] - alpha));
-            for (int k = 0; k < 3; ++k) worst = std::max(worst, std::fabs(img.pixel(i, j)[k] - c[k] * alpha));
-        }
+    const PixelCheck pc = check_pixels(img, cam, [&](const Ray& r) {
+        return beer_lambert(r, glm::dvec3(kOffset), glm::dvec3(kOffset + 6.0 * kCell), tau, c);
+    });
+    const double worst = pc.worst, largest_alpha = pc.largest_alpha;
     INFO("largest error " << worst << ", largest alpha " << largest_alpha);
     // The same tolerance as at the origin: the walk forms every plane distance from differences of nearby points
     // (a - origin, exact for points within a factor of two of each other), so coordinates at 1e8 cost no precision.
