@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "gpu/rasterize.h"
+#include "gpu/denormals.h"
 #include "reference/error.h"
 
 namespace uvr::gpu {
@@ -131,6 +132,7 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
 
     t0 = Clock::now();
     tbb::parallel_for(std::size_t(0), bins.size(), [&](std::size_t b) {
+        const FlushDenormals llvmpipe_mxcsr;  // the fragment stage rounds as llvmpipe's shaders do (gpu/denormals.h)
         const int tx = int(b % std::size_t(tiles_x)), ty = int(b / std::size_t(tiles_x));
         const int px0 = tx * kTile, px1 = std::min(width, px0 + kTile) - 1;
         const int py0 = ty * kTile, py1 = std::min(height, py0 + kTile) - 1;
@@ -164,6 +166,7 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     // Flush passes: k full-screen passes of the flush fragment composite what is left.
     t0 = Clock::now();
     tbb::parallel_for(std::size_t(0), npix, [&](std::size_t p) {
+        const FlushDenormals llvmpipe_mxcsr;
         for (int pass = 0; pass < k; ++pass)
             havs_kbuffer(fc, kFlushFragment, &kbuf[p * std::size_t(k)], k, fb[p], shade, &diag[p]);
     });

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <vector>
 
+#include "gpu/denormals.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_stage_harness.h"
 #include "gpu/havs_fragment.h"
@@ -19,10 +20,6 @@
 #include "gpu/rasterize.h"
 #include "reference/transfer_function.h"
 #include "test_support.h"
-
-#if defined(__x86_64__)
-#include <xmmintrin.h>
-#endif
 
 using namespace uvr;
 using namespace uvr::gpu;
@@ -486,14 +483,14 @@ TEST_CASE("havs_fragment_entry in GLSL computes the emulation's bits on 1,200,00
 }
 
 #if defined(__x86_64__)
-TEST_CASE("denormals: llvmpipe flushes them (DAZ and FTZ), the emulation does not: measured and explained")
+TEST_CASE("denormals: llvmpipe flushes them (DAZ and FTZ), and so does the emulated fragment stage")
 {
     // llvmpipe runs shaders with the x86 MXCSR's denormals-are-zero and flush-to-zero bits set, whatever the thread
-    // (LP_NUM_THREADS 0, 1, 2 alike); the emulation computes with gradual underflow. Colours with denormals, or
-    // compositing that underflows, therefore differ; running the same emulation code with MXCSR's DAZ and FTZ set
-    // reproduces the GL bits exactly, which shows that flushing is the whole difference there. Denormal distances
-    // differ even under DAZ and FTZ (llvmpipe also flushes some distances the program only moves); the entry stage
-    // never produces them. docs/gl-backend.md.
+    // (LP_NUM_THREADS 0, 1, 2 alike). With gradual underflow the emulation would differ on colours with denormals and
+    // on compositing that underflows ("as is" below, asserted to differ, so that a Mesa that stops flushing is
+    // noticed); under FlushDenormals (gpu/denormals.h), which the emulated driver sets around its fragment stage, it
+    // computes the GL bits exactly. Denormal distances differ even then (llvmpipe also flushes some distances the
+    // program only moves); the entry stage never produces them. docs/gl-backend.md.
     GlHavsFragmentHarness& h = *gl(GlPlatform::osmesa).harness;
     std::mt19937_64 rng(300);
     auto uni = [&](float a, float b) { return std::uniform_real_distribution<float>(a, b)(rng); };
@@ -521,10 +518,10 @@ TEST_CASE("denormals: llvmpipe flushes them (DAZ and FTZ), the emulation does no
         Mismatches plain, flushed;
         KBufferTally t1, t2;
         compare_kbuffer(fc, cs, r, nullptr, plain, t1);
-        const unsigned csr = _mm_getcsr();
-        _mm_setcsr(csr | 0x8040);  // FTZ (bit 15) and DAZ (bit 6)
-        compare_kbuffer(fc, cs, r, nullptr, flushed, t2);
-        _mm_setcsr(csr);
+        {
+            const FlushDenormals as_the_renderer_runs;
+            compare_kbuffer(fc, cs, r, nullptr, flushed, t2);
+        }
         measured << names[family] << ": " << plain.summary("as is") << "; " << flushed.summary("under DAZ and FTZ")
                  << "\n";
         INFO(names[family]);
