@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "gpu/rasterize.h"
@@ -165,10 +166,11 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
 
     // Flush passes: k full-screen passes of the flush fragment composite what is left.
     t0 = Clock::now();
-    tbb::parallel_for(std::size_t(0), npix, [&](std::size_t p) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, npix), [&](const tbb::blocked_range<std::size_t>& range) {
         const FlushDenormals llvmpipe_mxcsr;
-        for (int pass = 0; pass < k; ++pass)
-            havs_kbuffer(fc, kFlushFragment, &kbuf[p * std::size_t(k)], k, fb[p], shade, &diag[p]);
+        for (std::size_t p = range.begin(); p != range.end(); ++p)
+            for (int pass = 0; pass < k; ++pass)
+                havs_kbuffer(fc, kFlushFragment, &kbuf[p * std::size_t(k)], k, fb[p], shade, &diag[p]);
     });
     st.flush_ms = ms_since(t0);
 

@@ -249,20 +249,23 @@ TEST_CASE("no GL context: --backend gl fails with a clear error and writes nothi
     TempDir tmp("cli-nogl");
     const std::string out = tmp.file("never.npy");
     const std::string args = "render builtin:torus-small --algo havs --backend gl --size 32x32 --out '" + out + "' ";
+    // Runs `args + extra` with the environment variable `name` set to `value` for the child only.
+    auto run_with = [&](const char* name, const char* value, const std::string& extra) {
+        setenv(name, value, 1);
+        const CommandResult r = run_uvr(args + extra);
+        unsetenv(name);
+        return r;
+    };
     SECTION("EGL without a vendor library (glvnd finds no driver)")
     {
-        setenv("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/vendor.json", 1);
-        const CommandResult r = run_uvr(args + "--gl egl");
-        unsetenv("__EGL_VENDOR_LIBRARY_FILENAMES");
+        const CommandResult r = run_with("__EGL_VENDOR_LIBRARY_FILENAMES", "/nonexistent/vendor.json", "--gl egl");
         INFO(r.err);
         CHECK(r.exit_code == 1);
         CHECK_THAT(r.err, Catch::Contains("EGL: cannot create an OpenGL 4.5 core-profile context"));
     }
     SECTION("OSMesa asked for a driver it does not have (Mesa 22.3 itself would crash)")
     {
-        setenv("GALLIUM_DRIVER", "nonexistent", 1);
-        const CommandResult r = run_uvr(args + "--gl osmesa");
-        unsetenv("GALLIUM_DRIVER");
+        const CommandResult r = run_with("GALLIUM_DRIVER", "nonexistent", "--gl osmesa");
         INFO(r.err);
         CHECK(r.exit_code == 1);
         CHECK_THAT(r.err, Catch::Contains("GALLIUM_DRIVER=nonexistent"));

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "reference/error_measures.h"
+#include "image_errors.h"
 #include "test_support.h"
 
 using namespace uvr;
@@ -14,28 +15,6 @@ using uvr::test::run_uvr;
 using uvr::test::TempDir;
 
 namespace {
-
-struct Recomputed {
-    double rmse = 0.0, max_abs = 0.0, visible_fraction = 0.0;
-};
-
-// SPEC §4's measures, recomputed here independently of reference/error_measures.cpp.
-Recomputed recompute(const Image& img, const Image& ref)
-{
-    double sum = 0.0, worst = 0.0;
-    std::size_t visible = 0;
-    for (std::size_t p = 0; p < img.rgba.size() / 4; ++p) {
-        double pw = 0.0;
-        for (int c = 0; c < 4; ++c) {
-            const double d = std::fabs(double(img.rgba[4 * p + c]) - double(ref.rgba[4 * p + c]));
-            sum += d * d;
-            pw = std::max(pw, d);
-        }
-        worst = std::max(worst, pw);
-        visible += pw > 1.0 / 255.0;
-    }
-    return {std::sqrt(sum / double(img.rgba.size())), worst, double(visible) / double(img.rgba.size() / 4)};
-}
 
 // sweep.csv prints with %.9g: nine significant digits, a relative rounding of at most 5e-9.
 constexpr double kCsvRelative = 5e-9;
@@ -86,7 +65,7 @@ TEST_CASE("uvr compare writes the images, error maps, metrics.json and a page wh
         const std::string label = res["label"];
         INFO(label);
         CHECK(std::filesystem::exists(dir + "/" + res["image"].get<std::string>()));
-        const Recomputed e = recompute(read_npy(dir + "/" + label + ".npy"), ref);
+        const test::ImageErrors e = test::image_errors(read_npy(dir + "/" + label + ".npy"), ref);
         CHECK(res["rmse"].get<double>() == Approx(e.rmse).margin(1e-15));
         CHECK(res["max_abs"].get<double>() == Approx(e.max_abs).margin(1e-15));
         CHECK(res["visible_fraction"].get<double>() == Approx(e.visible_fraction));
@@ -131,7 +110,7 @@ TEST_CASE("uvr sweep's CSV holds the numbers its images give, the table-size swe
         } else {
             ++rows;
         }
-        const Recomputed e = recompute(read_npy(dir + "/runs/" + image + ".npy"), read_npy(dir + "/runs/" + against + ".npy"));
+        const test::ImageErrors e = test::image_errors(read_npy(dir + "/runs/" + image + ".npy"), read_npy(dir + "/runs/" + against + ".npy"));
         CHECK(std::stod(f[col("rmse")]) == Approx(e.rmse).epsilon(kCsvRelative).margin(1e-300));
         CHECK(std::stod(f[col("max_abs")]) == Approx(e.max_abs).epsilon(kCsvRelative).margin(1e-300));
         CHECK(std::stod(f[col("visible_fraction")]) == Approx(e.visible_fraction).epsilon(kCsvRelative));

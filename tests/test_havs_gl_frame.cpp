@@ -7,6 +7,7 @@
 
 #include "gpu/gl_havs.h"
 #include "havs_scenes.h"
+#include "image_errors.h"
 #include "reference/reference_renderer.h"
 
 using namespace uvr;
@@ -59,16 +60,6 @@ FrameDiff diff(const HavsFrame& gl, const HavsFrame& emu)
                 ++d.diagnostics_differ;
         }
     return d;
-}
-
-double rmse(const Image& a, const Image& b)
-{
-    double sum = 0.0;
-    for (std::size_t i = 0; i < a.rgba.size(); ++i) {
-        const double d = double(a.rgba[i]) - double(b.rgba[i]);
-        sum += d * d;
-    }
-    return std::sqrt(sum / double(a.rgba.size()));
 }
 
 // Renders `cam` with both backends at every k of `ks` and requires bit identity.
@@ -169,7 +160,7 @@ TEST_CASE("the GL HAVS frame converges to the reference as the table grows, as t
         const HavsFrame frame = gl.render(cam, 128, 128);
         const HavsFrame emu = HavsRenderer(s.mesh, s.topo, s.field, s.tf, o).render(cam, 128, 128);
         REQUIRE(frame.stats.ordering_errors == 0);
-        const double e_gl = rmse(frame.image, ref), e_emu = rmse(emu.image, ref);
+        const double e_gl = test::image_errors(frame.image, ref).rmse, e_emu = test::image_errors(emu.image, ref).rmse;
         INFO("table " << n << ": RMSE against the reference " << e_gl << " (GL), " << e_emu << " (emulation)");
         CHECK(e_gl == e_emu);
         CHECK(e_gl < previous);
