@@ -108,21 +108,8 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     st.setup_ms = fs.vertex_ms + ms_since(t0);
 
     // The segment shader: the table as llvmpipe samples it, or the exact integral in double.
-    const LlvmpipeCpu cpu = host_llvmpipe_cpu();
-    const Range range = mesh_.range();
-    const double span = range.hi > range.lo ? range.hi - range.lo : 1.0;
-    const PreintegrationTable* table = mesh_.table();
-    const TextureFilter filter = mesh_.options().filter;
-    const SegmentIntegrator& integrator = mesh_.integrator();
-    const SegmentShader shade = table ? SegmentShader([&](float uf, float ub, float tz, float) {
-        return table->sample(uf, ub, tz, cpu, filter);
-    })
-                                       : SegmentShader([&](float uf, float ub, float, float length) {
-                                             const glm::dvec4 c = integrator.integrate(
-                                                 range.lo + double(uf) * span, range.lo + double(ub) * span,
-                                                 double(length));
-                                             return glm::vec4(c);
-                                         });
+    const SegmentShader shade =
+        segment_shader(mesh_.table(), mesh_.options().filter, mesh_.integrator(), mesh_.range());
 
     // Per-pixel state, GL rows (from the bottom).
     const int k = mesh_.options().k;

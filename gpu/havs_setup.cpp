@@ -16,6 +16,46 @@ using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 }  // namespace
 
+double longest_tet_edge(const TetMesh& mesh)
+{
+    double longest = 0.0;
+    for (const Tet& t : mesh.tets) {
+        if (is_degenerate(mesh, t)) continue;
+        for (int a = 0; a < 4; ++a)
+            for (int b = a + 1; b < 4; ++b)
+                longest = std::max(longest, glm::length(mesh.points[t[a]] - mesh.points[t[b]]));
+    }
+    return longest;
+}
+
+std::unique_ptr<PreintegrationTable> build_segment_table(const SegmentIntegrator& integrator, const Range& range,
+                                                         int size, TexelFormat format, double max_length, double& ms)
+{
+    const auto t0 = Clock::now();
+    PreintegrationConfig cfg;
+    cfg.scalar_resolution = cfg.length_resolution = size;
+    cfg.format = format;
+    cfg.max_length = max_length;
+    auto table = std::make_unique<PreintegrationTable>(integrator, range, cfg);
+    ms = ms_since(t0);
+    return table;
+}
+
+SegmentShader segment_shader(const PreintegrationTable* table, TextureFilter filter,
+                             const SegmentIntegrator& integrator, const Range& range)
+{
+    if (table) {
+        const LlvmpipeCpu cpu = host_llvmpipe_cpu();
+        return [table, filter, cpu](float uf, float ub, float tz, float) {
+            return table->sample(uf, ub, tz, cpu, filter);
+        };
+    }
+    const double lo = range.lo, span = range.hi > range.lo ? range.hi - range.lo : 1.0;
+    return [&integrator, lo, span](float uf, float ub, float, float length) {
+        return glm::vec4(integrator.integrate(lo + double(uf) * span, lo + double(ub) * span, double(length)));
+    };
+}
+
 HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
                    const HavsOptions& options)
     : mesh_(mesh), options_(options), integrator_(tf), range_(field_range(mesh.fields.at(field)))
@@ -37,22 +77,11 @@ HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t fi
         const bool seam = welded[f.v[0]] && welded[f.v[1]] && welded[f.v[2]];
         boundary_.push_back(options_.gaps == GapMode::exact && f.boundary() && !seam ? 1 : 0);
     }
-    for (const Tet& t : mesh.tets) {
-        if (is_degenerate(mesh, t)) continue;
-        for (int a = 0; a < 4; ++a)
-            for (int b = a + 1; b < 4; ++b)
-                longest_edge_ = std::max(longest_edge_, glm::length(mesh.points[t[a]] - mesh.points[t[b]]));
-    }
-    if (options_.segment == SegmentMode::table) {
-        const auto t0 = Clock::now();
-        PreintegrationConfig cfg;
-        cfg.scalar_resolution = cfg.length_resolution = options_.table_size;
-        cfg.format = options_.table_format;
-        if (!(options_.table_max_length > 0.0)) options_.table_max_length = longest_edge_;
-        cfg.max_length = options_.table_max_length;
-        table_ = std::make_unique<PreintegrationTable>(integrator_, range_, cfg);
-        table_ms_ = ms_since(t0);
-    }
+    longest_edge_ = longest_tet_edge(mesh);
+    if (!(options_.table_max_length > 0.0)) options_.table_max_length = longest_edge_;
+    if (options_.segment == SegmentMode::table)
+        table_ = build_segment_table(integrator_, range_, options_.table_size, options_.table_format,
+                                     options_.table_max_length, table_ms_);
 }
 
 HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width, int height)

@@ -40,6 +40,18 @@ struct HavsOptions {
     TextureFilter filter = TextureFilter::linear;
 };
 
+// Shared by the projection algorithms (HAVS, VICP):
+// the longest edge of the mesh's non-degenerate tetrahedra (no segment inside one cell is longer: the table's range);
+double longest_tet_edge(const TetMesh& mesh);
+// the pre-integrated table of `integrator` over `range` with `size` texels per axis up to `max_length`, and the
+// milliseconds it took;
+std::unique_ptr<PreintegrationTable> build_segment_table(const SegmentIntegrator& integrator, const Range& range,
+                                                         int size, TexelFormat format, double max_length, double& ms);
+// what a segment contributes: the table as llvmpipe samples it, or, without a table (--segment exact), the exact
+// integral in double of the segment between the normalized scalars.
+SegmentShader segment_shader(const PreintegrationTable* table, TextureFilter filter,
+                             const SegmentIntegrator& integrator, const Range& range);
+
 // What the CPU stage keeps of the mesh between frames.
 class HavsMesh {
 public:

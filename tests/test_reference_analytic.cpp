@@ -10,9 +10,11 @@
 #include "reference/cells.h"
 #include "reference/ray_integrator.h"
 #include "reference/reference_renderer.h"
+#include "box_mesh.h"
 #include "test_support.h"
 
 using namespace uvr;
+using test::box_mesh;
 
 namespace {
 
@@ -21,27 +23,6 @@ namespace {
 // hundred steps), and the image is rounded to float32 (6e-8 relative). 1e-6 absolute covers all of it with margin
 // while any skipped tetrahedron (a leak) changes the transmittance by far more.
 constexpr double kPixelTolerance = 1e-6;
-
-// A box [0, n]^3 of unit cells split into tetrahedra, the scalar given by `field` at each point.
-TetMesh box_mesh(int n, const std::function<double(const glm::dvec3&)>& field, double jitter = 0.0, unsigned seed = 1)
-{
-    StructuredGrid g;
-    g.source = "box";
-    g.dims = {n + 1, n + 1, n + 1};
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> U(-jitter, jitter);
-    for (int k = 0; k <= n; ++k)
-        for (int j = 0; j <= n; ++j)
-            for (int i = 0; i <= n; ++i) {
-                const bool inner = i > 0 && i < n && j > 0 && j < n && k > 0 && k < n;
-                const glm::dvec3 p(i + (inner ? U(rng) : 0.0), j + (inner ? U(rng) : 0.0), k + (inner ? U(rng) : 0.0));
-                g.points.push_back(p);
-            }
-    ScalarField f{"f", {}};
-    for (const auto& p : g.points) f.values.push_back(field(p));
-    g.point_fields.push_back(f);
-    return tetrahedralize_structured(g);
-}
 
 // Length of the ray's path inside the axis-aligned box [lo, hi] (slab method), and the entry parameter.
 bool box_chord(const Ray& r, glm::dvec3 lo, glm::dvec3 hi, double& t0, double& t1)

@@ -1,0 +1,142 @@
+#include "gpu/vicp.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "gpu/denormals.h"
+#include "gpu/rasterize.h"
+
+namespace uvr::gpu {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+// Screen tiles processed in parallel; within a tile the cells are applied in stream order, as a GPU orders the
+// fragments of one pixel, so the result does not depend on the number of threads.
+constexpr int kTile = 64;
+}  // namespace
+
+void store_vicp_frame(const std::vector<glm::vec4>& colour, const std::vector<VicpDiagnostics>& diag, int width,
+                      int height, VicpFrame& out)
+{
+    const std::size_t npix = std::size_t(width) * std::size_t(height);
+    out.image = Image(width, height);
+    out.fragments.resize(npix);
+    out.ordering_errors.resize(npix);
+    VicpStats& st = out.stats;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(x);
+            const int j = height - 1 - y;
+            float* px = out.image.pixel(x, j);
+            for (int c = 0; c < 4; ++c) px[c] = colour[p][c];
+            const VicpDiagnostics& d = diag[p];
+            const std::size_t q = std::size_t(j) * std::size_t(width) + std::size_t(x);
+            out.fragments[q] = d.fragments;
+            out.ordering_errors[q] = d.ordering_errors;
+            st.fragments += d.fragments;
+            st.ordering_errors += d.ordering_errors;
+            st.max_fragments = std::max(st.max_fragments, d.fragments);
+        }
+}
+
+VicpRenderer::VicpRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
+                           const TransferFunction& tf, const VicpOptions& options)
+    : mesh_(mesh, topo, field, tf, options)
+{
+}
+
+VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
+{
+    VicpFrame out;
+    VicpStats& st = out.stats;
+    st.table_ms = mesh_.table_ms();
+    st.cells = mesh_.mesh().tets.size();
+
+    const VicpFrameSetup fs = setup_vicp_frame(mesh_, cam, width, height);
+    const VicpFrameConstants& fc = fs.constants;
+    const std::vector<WindowCoord>& win = fs.win;
+    const std::vector<VicpCell>& stream = fs.stream;
+    st.drawn_cells = stream.size();
+    st.order = fs.order_stats;
+    st.sort_ms = fs.sort_ms;
+    st.project_ms = fs.project_ms;
+    const Framebuffer fbuf{width, height, RenderTarget::fbo};
+
+    // Bin the stream's cells into screen tiles by the bounding boxes of their four points.
+    auto t0 = Clock::now();
+    const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
+    std::vector<std::vector<uint32_t>> bins(std::size_t(tiles_x) * std::size_t(tiles_y));
+    for (uint32_t slot = 0; slot < stream.size(); ++slot) {
+        const Tet& t = stream[slot].v;
+        float x0 = win[t[0]].x, x1 = x0, y0 = win[t[0]].y, y1 = y0;
+        for (int j = 1; j < 4; ++j) {
+            x0 = std::min(x0, win[t[j]].x);
+            x1 = std::max(x1, win[t[j]].x);
+            y0 = std::min(y0, win[t[j]].y);
+            y1 = std::max(y1, win[t[j]].y);
+        }
+        if (!(x1 >= 0.0f && y1 >= 0.0f && x0 <= float(width) && y0 <= float(height))) continue;
+        const int tx0 = std::clamp(int(std::floor(x0)) / kTile, 0, tiles_x - 1);
+        const int tx1 = std::clamp(int(std::floor(x1)) / kTile, 0, tiles_x - 1);
+        const int ty0 = std::clamp(int(std::floor(y0)) / kTile, 0, tiles_y - 1);
+        const int ty1 = std::clamp(int(std::floor(y1)) / kTile, 0, tiles_y - 1);
+        for (int ty = ty0; ty <= ty1; ++ty)
+            for (int tx = tx0; tx <= tx1; ++tx)
+                bins[std::size_t(ty) * std::size_t(tiles_x) + std::size_t(tx)].push_back(slot);
+    }
+    st.setup_ms = fs.vertex_ms + ms_since(t0);
+
+    const SegmentShader shade =
+        segment_shader(mesh_.table(), mesh_.options().filter, mesh_.integrator(), mesh_.range());
+    const std::size_t npix = std::size_t(width) * std::size_t(height);
+    std::vector<glm::vec4> fb(npix, glm::vec4(0.0f));
+    std::vector<VicpDiagnostics> diag(npix);
+
+    t0 = Clock::now();
+    tbb::parallel_for(std::size_t(0), bins.size(), [&](std::size_t b) {
+        const FlushDenormals llvmpipe_mxcsr;  // as llvmpipe's shader threads (gpu/denormals.h)
+        const int tx = int(b % std::size_t(tiles_x)), ty = int(b / std::size_t(tiles_x));
+        const int px0 = tx * kTile, px1 = std::min(width, px0 + kTile) - 1;
+        const int py0 = ty * kTile, py1 = std::min(height, py0 + kTile) - 1;
+        for (uint32_t slot : bins[b]) {
+            const Tet& t = stream[slot].v;
+            bool have_constants = false;
+            VicpTet tet;
+            for (int f = 0; f < 4; ++f) {
+                const WindowCoord wv[3] = {win[t[kVicpCorner[f][0]]], win[t[kVicpCorner[f][1]]],
+                                           win[t[kVicpCorner[f][2]]]};
+                const TriangleSetup ts = setup_triangle(wv, fbuf);
+                // glCullFace(GL_BACK): only the faces the eye sees from outside the cell make fragments.
+                if (ts.empty() || ts.facing != Facing::front) continue;
+                const int ya = std::max(ts.y0, py0), yb = std::min(ts.y1, py1);
+                for (int py = ya; py <= yb; ++py) {
+                    int first = 0, last = -1;
+                    row_span(ts, py, first, last);
+                    first = std::max(first, px0);
+                    last = std::min(last, px1);
+                    if (first > last) continue;
+                    if (!have_constants) {
+                        tet = mesh_.constants(stream[slot], fs.snapped);  // the vertex program's flat outputs
+                        have_constants = true;
+                    }
+                    for (int px = first; px <= last; ++px) {
+                        const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
+                        const VicpSegment seg = vicp_fragment_values(fc, tet, px, py);
+                        vicp_composite(fc, seg, fb[p], shade, &diag[p]);
+                    }
+                }
+            }
+        }
+    });
+    st.raster_fragment_ms = ms_since(t0);
+
+    store_vicp_frame(fb, diag, width, height, out);
+    return out;
+}
+
+}  // namespace uvr::gpu

@@ -1,0 +1,108 @@
+// VICP's CPU stage (seed 003, VICP-ProjectTet), shared by the emulated driver (vicp.cpp) and the GL driver
+// (gl_vicp.cpp), so that both draw the same cells in the same order:
+//   - once per mesh (VicpMesh): what the GPU keeps resident, view independent: float positions relative to the mesh's
+//     centre (for gl_Position, as HAVS's vertex buffer), the same in double (for the vertex program's constants),
+//     normalized scalars; each cell's orientation (drawn as it is, drawn with vertices 2 and 3 swapped, or not drawn:
+//     a flat cell covers no pixel's ray); the pre-integration table;
+//   - once per frame (setup_vicp_frame): the cell order (vicp_order), then ProjectTet: each drawn cell's four point
+//     indices in that order, positively oriented, which is everything sent per frame (16 bytes a cell, against the
+//     seed's 132 floats = 528 bytes: the seed sends each face's vertices with their scalar, gradient and opposite
+//     plane; here those live in the resident buffers and the vertex program derives them, docs/vicp.md); the window
+//     coordinates of every point (the vertex stage's positions, as the rasterizer receives them) and the frame's
+//     constants.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "gpu/havs_setup.h"
+#include "gpu/vicp_fragment.h"
+#include "gpu/vicp_order.h"
+
+namespace uvr::gpu {
+
+// One cell as ProjectTet sends it: its points, positively oriented, and which of its faces (bit i: the face opposite
+// point i) lie on the mesh's boundary.
+struct VicpCell {
+    Tet v;
+    uint32_t boundary = 0;
+};
+
+struct VicpOptions {
+    CellOrder order = CellOrder::mpvonc;
+    SegmentMode segment = SegmentMode::table;
+    float threshold = 1.0f;  // the opacity kill; VICP composites every cell by default (the seed has no kill)
+    int table_size = 128;
+    TexelFormat table_format = TexelFormat::f32;
+    double table_max_length = 0.0;  // 0: the mesh's longest edge
+    TextureFilter filter = TextureFilter::linear;
+};
+
+class VicpMesh {
+public:
+    // Throws InputError when an option is out of range.
+    VicpMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
+             const VicpOptions& options);
+
+    const TetMesh& mesh() const { return mesh_; }
+    const MeshTopology& topology() const { return topo_; }
+    const VicpOptions& options() const { return options_; }  // table_max_length filled in
+    const SegmentIntegrator& integrator() const { return integrator_; }
+    const Range& range() const { return range_; }
+    const glm::dvec3& origin() const { return origin_; }
+    const std::vector<glm::vec3>& points_f() const { return points_f_; }    // relative to origin(), float
+    const std::vector<glm::dvec3>& points_d() const { return points_d_; }   // relative to origin(), double
+    const std::vector<double>& scalars_n() const { return scalar_n_; }      // normalized to [0, 1]
+    const PreintegrationTable* table() const { return table_.get(); }      // null with --segment exact
+    double table_ms() const { return table_ms_; }
+    std::size_t drawn_cells() const { return drawn_; }
+
+    // Tetrahedron t as the vertex program receives it: its points positively oriented (det > 0 in
+    // vicp_tet_constants), or false when it is not drawn (det == 0: a flat cell).
+    bool oriented(uint32_t t, VicpCell& out) const;
+    // The vertex program's constants of an oriented tetrahedron: its shape from the frame's snapped points, its field
+    // from the mesh's.
+    VicpTet constants(const VicpCell& cell, const std::vector<glm::dvec3>& snapped) const;
+
+private:
+    const TetMesh& mesh_;
+    const MeshTopology& topo_;
+    VicpOptions options_;
+    SegmentIntegrator integrator_;
+    Range range_;
+    glm::dvec3 origin_{0.0};
+    std::vector<glm::vec3> points_f_;
+    std::vector<glm::dvec3> points_d_;
+    std::vector<double> scalar_n_;
+    std::vector<uint8_t> orientation_;  // per cell: 0 not drawn, 1 as it is, 2 vertices 2 and 3 swapped
+    std::vector<uint8_t> boundary_;     // per cell: bit i, the face opposite point i is a boundary face
+    std::size_t drawn_ = 0;
+    std::unique_ptr<PreintegrationTable> table_;
+    double table_ms_ = 0.0;
+};
+
+struct VicpFrameSetup {
+    Camera camera;
+    int width = 0, height = 0;
+    ViewSetup view;
+    VicpFrameConstants constants;
+    std::vector<WindowCoord> win;  // per point: what the rasterizer receives
+    // Per point, relative to the mesh's centre in double: where snapping put it (the window position the rasterizer
+    // snapped it to, at its own depth; vicp_fragment.h, "Snapping").
+    std::vector<glm::dvec3> snapped;
+    std::vector<uint32_t> order;   // every cell, front to back
+    std::vector<VicpCell> stream;  // ProjectTet's output: the drawn cells, oriented, in order
+    CellOrderStats order_stats;
+    double sort_ms = 0.0, project_ms = 0.0, vertex_ms = 0.0;
+};
+
+// Throws InputError when the camera is inside the mesh's bounds (as HAVS: near-plane clipping is not emulated).
+VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& camera, int width, int height);
+
+// What the GPU holds per cell: resident (positions in float and double, scalars, per point; amortized over cells) and
+// sent per frame (ProjectTet's stream, 16 bytes a cell, and the snapped points in double, 24 bytes a point).
+double vicp_sent_bytes_per_cell(const VicpMesh& vm);
+inline constexpr std::size_t kSeedBytesSentPerCell = 132 * sizeof(float);  // seed 003's count
+double vicp_resident_bytes_per_cell(const VicpMesh& vm);
+
+}  // namespace uvr::gpu

@@ -1,0 +1,35 @@
+// Meshes with known geometry for analytic and degenerate-geometry tests.
+#pragma once
+
+#include <functional>
+#include <random>
+
+#include <glm/vec3.hpp>
+
+#include "reference/cells.h"
+#include "reference/mesh.h"
+
+namespace uvr::test {
+
+// A box [0, n]^3 of unit cells split into tetrahedra, the scalar given by `field` at each point.
+inline TetMesh box_mesh(int n, const std::function<double(const glm::dvec3&)>& field, double jitter = 0.0, unsigned seed = 1)
+{
+    StructuredGrid g;
+    g.source = "box";
+    g.dims = {n + 1, n + 1, n + 1};
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> U(-jitter, jitter);
+    for (int k = 0; k <= n; ++k)
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) {
+                const bool inner = i > 0 && i < n && j > 0 && j < n && k > 0 && k < n;
+                const glm::dvec3 p(i + (inner ? U(rng) : 0.0), j + (inner ? U(rng) : 0.0), k + (inner ? U(rng) : 0.0));
+                g.points.push_back(p);
+            }
+    ScalarField f{"f", {}};
+    for (const auto& p : g.points) f.values.push_back(field(p));
+    g.point_fields.push_back(f);
+    return tetrahedralize_structured(g);
+}
+
+}  // namespace uvr::test

@@ -1,0 +1,220 @@
+// VICP emulated against the ground truth (issue 6): the exact configuration equals the reference, the centroid
+// order's error is measured, degenerate geometry gives finite, complete images, and visibility cycles are reported.
+#include <cmath>
+#include <cstring>
+
+#include "box_mesh.h"
+#include "gpu/vicp.h"
+#include "havs_scenes.h"
+#include "image_errors.h"
+#include "reference/reference_renderer.h"
+
+using namespace uvr;
+using namespace uvr::gpu;
+using test::Scene;
+
+namespace {
+
+// Issue 6's bar: with exact segments and a correct order, VICP computes the reference's integral per cell, up to
+// float32 fragment values and compositing; the largest error is issue 4's bar for HAVS, whose errors come from the
+// same roundings. (The cells' interior faces are where the rasterizer drew them, gpu/vicp_fragment.h "Snapping":
+// that moves no boundary, and inside the mesh only splits a ray's path differently between its cells.)
+constexpr double kConvergenceRmse = 1e-5;
+// The largest error on any pixel: this catches a region lost or composited out of order, which costs far more than
+// the roundings do (a segment lost to snapping cost 0.016 on a Blunt Fin pixel before the fix of vicp_fragment.h, a
+// pair of cells composited out of order 0.1 and more), while the roundings of fragment values at a grazing angle
+// reach 1.5e-4 on a torus silhouette pixel (measured; HAVS's 1e-4 bar is for its own fragment values).
+constexpr double kConvergenceMax = 1e-3;
+
+VicpOptions exact_options(CellOrder order)
+{
+    VicpOptions o;
+    o.order = order;
+    o.segment = SegmentMode::exact;
+    o.threshold = 1.0f;
+    return o;
+}
+
+Image reference(const Scene& s, const Camera& cam, int w, int h)
+{
+    const RayIntegrator ri(s.mesh, s.topo, s.field, s.tf);
+    ReferenceStats rs;
+    return render_reference(ri, cam, w, h, rs);
+}
+
+}  // namespace
+
+TEST_CASE("VICP with exact segments and the MPVONC order equals the reference")
+{
+    auto check = [](const Scene& s, const Camera& cam, int size) {
+        const VicpFrame f = VicpRenderer(s.mesh, s.topo, s.field, s.tf, exact_options(CellOrder::mpvonc))
+                                .render(cam, size, size);
+        const test::ImageErrors e = test::image_errors(f.image, reference(s, cam, size, size), kConvergenceMax);
+        INFO("view eye " << cam.eye.x << " " << cam.eye.y << " " << cam.eye.z << ": RMSE " << e.rmse << ", max "
+                         << e.max_abs << ", pixels over " << kConvergenceMax << ": " << e.over << "; "
+                         << f.stats.order.face_dependencies << " face and " << f.stats.order.ray_dependencies
+                         << " ray dependencies, " << f.stats.order.cycle_breaks << " cycle breaks, "
+                         << f.stats.ordering_errors << " ordering errors");
+        REQUIRE(f.stats.order.cycle_breaks == 0);
+        // Known: one Blunt Fin pixel per view counts an ordering error without a visible effect (docs/vicp.md).
+        if (f.stats.ordering_errors) WARN(f.stats.ordering_errors << " ordering errors");
+        CHECK(f.stats.ordering_errors <= (s.mesh.tets.size() > 100000 ? 1u : 0u));
+        CHECK(e.rmse <= kConvergenceRmse);
+        CHECK(e.max_abs <= kConvergenceMax);
+    };
+    SECTION("the built-in torus, three views")
+    {
+        const Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
+        for (const auto& [az, el] : {std::pair{0.0, 0.0}, {35.0, 40.0}, {-70.0, 15.0}})
+            check(s, default_camera(mesh_bounds(s.mesh), 1.0, az, el), 160);
+    }
+    SECTION("Blunt Fin, two views")
+    {
+        const Scene s = test::blunt_fin();
+        for (const auto& [az, el] : {std::pair{0.0, 0.0}, {-40.0, 70.0}})
+            check(s, default_camera(mesh_bounds(s.mesh), 1.0, az, el), 256);
+    }
+    SECTION("an orthographic view of the torus")
+    {
+        const Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
+        Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 20.0, 50.0);
+        cam.orthographic = true;
+        cam.ortho_height = glm::length(mesh_bounds(s.mesh).extent());
+        check(s, cam, 160);
+    }
+}
+
+TEST_CASE("the centroid order's error is measured: pixels without an ordering error equal the MPVONC image")
+{
+    const Scene s = test::blunt_fin();
+    const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, -40.0, 70.0);
+    const int size = 256;
+    const VicpFrame exact =
+        VicpRenderer(s.mesh, s.topo, s.field, s.tf, exact_options(CellOrder::mpvonc)).render(cam, size, size);
+    const VicpFrame centroid =
+        VicpRenderer(s.mesh, s.topo, s.field, s.tf, exact_options(CellOrder::centroid)).render(cam, size, size);
+    std::size_t clean_differ = 0, with_errors = 0, with_errors_differ = 0;
+    for (std::size_t p = 0; p < centroid.ordering_errors.size(); ++p) {
+        const bool same = std::memcmp(&exact.image.rgba[4 * p], &centroid.image.rgba[4 * p], 16) == 0;
+        if (centroid.ordering_errors[p] == 0) {
+            clean_differ += same ? 0 : 1;
+        } else {
+            ++with_errors;
+            with_errors_differ += same ? 0 : 1;
+        }
+    }
+    const test::ImageErrors e = test::image_errors(centroid.image, reference(s, cam, size, size));
+    INFO("centroid order: " << centroid.stats.ordering_errors << " ordering errors on " << with_errors
+                            << " pixels, of which " << with_errors_differ << " differ from MPVONC's; RMSE "
+                            << e.rmse << ", max " << e.max_abs);
+    CHECK(clean_differ == 0);
+    // Blunt Fin's cells vary in size by orders of magnitude: the centroid order is wrong somewhere on this view.
+    CHECK(with_errors > 0);
+    CHECK(with_errors_differ > 0);
+    CHECK(e.rmse > kConvergenceRmse / 10.0);  // measured, not assumed zero: 4.3e-6 on this view
+}
+
+TEST_CASE("VICP on degenerate views: faces edge-on, vertices behind vertices, rays along edges")
+{
+    // An unjittered grid of unit cubes seen along its axes: every cube's faces parallel to the view are edge-on,
+    // points line up behind one another, and pixel rays run along the faces and edges between cells.
+    const auto linear = [](const glm::dvec3& p) { return 0.1 * p.x + 0.2 * p.y + 0.3 * p.z; };
+    const Scene s = test::make_scene(test::box_mesh(4, linear, 0.0), 0);
+    const Bounds b = mesh_bounds(s.mesh);
+    for (int view = 0; view < 3; ++view) {
+        Camera cam = default_camera(b, 1.0, view == 2 ? 90.0 : 0.0, view == 1 ? 89.0 : 0.0);
+        if (view == 0) {
+            // Orthographic along the axis, pixel centres on the grid's lines: a 27-pixel image of height 9 puts every
+            // third pixel centre on an integer coordinate.
+            cam.orthographic = true;
+            cam.ortho_height = 9.0;
+        }
+        const int size = 27 * 3;
+        const VicpFrame f = VicpRenderer(s.mesh, s.topo, s.field, s.tf, exact_options(CellOrder::mpvonc))
+                                .render(cam, size, size);
+        const Image ref = reference(s, cam, size, size);
+        std::size_t nonfinite = 0, missing = 0;
+        for (std::size_t p = 0; p < f.image.rgba.size() / 4; ++p) {
+            for (int c = 0; c < 4; ++c) nonfinite += std::isfinite(f.image.rgba[4 * p + c]) ? 0 : 1;
+            missing += ref.rgba[4 * p + 3] > 0.0f && !(f.image.rgba[4 * p + 3] > 0.0f) ? 1 : 0;
+        }
+        const test::ImageErrors e = test::image_errors(f.image, ref, kConvergenceMax);
+        INFO("view " << view << ": " << nonfinite << " non-finite values, " << missing << " missing pixels, RMSE "
+                     << e.rmse << ", max " << e.max_abs);
+        CHECK(nonfinite == 0);
+        CHECK(missing == 0);
+        CHECK(e.rmse <= kConvergenceRmse);
+        CHECK(e.max_abs <= kConvergenceMax);
+    }
+}
+
+namespace {
+
+// Three thin cells, each the extension of one side of a triangle in the xy plane, tilted so that A lies above B where
+// they cross, B above C, and C above A: seen from above, every order is wrong somewhere (the classic cyclic overlap).
+Scene three_sticks(bool cyclic)
+{
+    TetMesh m;
+    m.source = "three sticks";
+    const glm::dvec3 v[3] = {{0, 0, 0}, {2, 0, 0}, {1, std::sqrt(3.0), 0}};
+    const double z_start[3] = {0.0, 0.5, 0.5}, z_end[3] = {1.0, 1.0, cyclic ? 1.0 : -0.5};
+    for (int i = 0; i < 3; ++i) {
+        const glm::dvec3 a = v[i], b = v[(i + 1) % 3];
+        const glm::dvec3 along = (b - a) / glm::length(b - a), perp(-along.y, along.x, 0.0);
+        const glm::dvec3 s = a - 0.4 * along, e = b + 0.4 * along;
+        const double w = 0.1;
+        const auto at = [](glm::dvec3 p, double z) { return glm::dvec3(p.x, p.y, z); };
+        const uint32_t base = uint32_t(m.points.size());
+        // Slopes extended over the overhang, so that the heights at the triangle's corners are z_start and z_end.
+        const double dz = (z_end[i] - z_start[i]) / 2.0 * 0.4;
+        m.points.push_back(at(s - w * perp, z_start[i] - dz));
+        m.points.push_back(at(s + w * perp, z_start[i] - dz + 0.05));
+        m.points.push_back(at(e - w * perp, z_end[i] + dz + 0.05));
+        m.points.push_back(at(e + w * perp, z_end[i] + dz));
+        m.tets.push_back({base, base + 1, base + 2, base + 3});
+    }
+    ScalarField f{"f", {}};
+    for (std::size_t i = 0; i < m.points.size(); ++i) f.values.push_back(double(i % 4) / 3.0);
+    m.fields.push_back(f);
+    finalize_mesh(m);
+    return test::make_scene(std::move(m), 0);
+}
+
+Camera from_above()
+{
+    Camera c;
+    c.eye = {1.0, 0.6, 12.0};
+    c.target = {1.0, 0.6, 0.0};
+    c.up = {0.0, 1.0, 0.0};
+    c.fovy_deg = 25.0;
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("MPVONC reports a visibility cycle and still draws every cell")
+{
+    SECTION("three cells in cyclic overlap")
+    {
+        const Scene s = three_sticks(true);
+        const Camera cam = from_above();
+        const VicpFrame f = VicpRenderer(s.mesh, s.topo, s.field, s.tf, exact_options(CellOrder::mpvonc))
+                                .render(cam, 128, 128);
+        INFO(f.stats.order.ray_dependencies << " ray dependencies");
+        CHECK(f.stats.order.ray_dependencies == 3);
+        CHECK(f.stats.order.cycle_breaks >= 1);
+        CHECK(f.stats.drawn_cells == 3);
+        CHECK(f.stats.ordering_errors > 0);  // the broken cycle is drawn out of order somewhere
+    }
+    SECTION("the same cells without the cycle")
+    {
+        const Scene s = three_sticks(false);
+        const Camera cam = from_above();
+        const VicpFrame f = VicpRenderer(s.mesh, s.topo, s.field, s.tf, exact_options(CellOrder::mpvonc))
+                                .render(cam, 128, 128);
+        INFO(f.stats.order.ray_dependencies << " ray dependencies");
+        CHECK(f.stats.order.ray_dependencies == 3);
+        CHECK(f.stats.order.cycle_breaks == 0);
+        CHECK(f.stats.ordering_errors == 0);
+    }
+}
