@@ -18,7 +18,8 @@ void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
     if (with_k) cmd.add_option("--k", o.k, "HAVS: k-buffer entries")->capture_default_str();
     cmd.add_option("--segment", o.segment, "HAVS: table | exact (emulation only)")->capture_default_str();
     cmd.add_option("--gaps", o.gaps, "HAVS: exact | maxgap (VTK's heuristic)")->capture_default_str();
-    cmd.add_option("--threshold", o.threshold, "Early-termination opacity (HAVS 0.99; 1 switches it off)");
+    cmd.add_option("--order", o.order, "VICP: cell order, mpvonc | centroid")->capture_default_str();
+    cmd.add_option("--threshold", o.threshold, "Early-termination opacity (HAVS 0.99, VICP 1; 1 switches it off)");
     cmd.add_option("--table-size", o.table_size, "HAVS: pre-integration table texels per axis")->capture_default_str();
     cmd.add_option("--table-format", o.table_format, "HAVS: f32 | u16 | u8")->capture_default_str();
     cmd.add_flag("--no-cache", o.no_cache, "Do not read or write the reference image cache");
@@ -44,6 +45,21 @@ gpu::HavsOptions havs_options(const AlgoOptions& a)
         o.table_format = gpu::TexelFormat::u8;
     else
         throw InputError("", "--table-format must be f32, u16 or u8");
+    return o;
+}
+
+gpu::VicpOptions vicp_options(const AlgoOptions& a)
+{
+    // The table and segment options mean what they mean for HAVS; only the order and the threshold's default differ.
+    AlgoOptions h = a;
+    if (h.threshold < 0.0) h.threshold = 1.0;
+    const gpu::HavsOptions ho = havs_options(h);
+    gpu::VicpOptions o;
+    o.order = gpu::parse_cell_order(a.order);
+    o.segment = ho.segment;
+    o.threshold = ho.threshold;
+    o.table_size = ho.table_size;
+    o.table_format = ho.table_format;
     return o;
 }
 
@@ -119,13 +135,44 @@ AlgoResult run_havs(const Scene& s, const AlgoOptions& a)
     return r;
 }
 
+AlgoResult run_vicp(const Scene& s, const AlgoOptions& a)
+{
+    if (a.backend == "gl")
+        throw InputError("", "--algo vicp runs only in the emulation so far (--backend emu): its GLSL twin is issue "
+                             "6's open part (docs/vicp.md)");
+    if (a.backend != "emu") throw InputError("", "--backend must be emu or gl, not '" + a.backend + "'");
+    const auto t0 = Clock::now();
+    const gpu::VicpRenderer vicp(s.mesh(), *s.topology, s.field, s.tf, vicp_options(a));
+    gpu::VicpFrame f = vicp.render(s.camera, s.width, s.height);
+    AlgoResult r;
+    r.ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    const auto& st = f.stats;
+    r.stats = {{"order", a.order},
+               {"segment", a.segment},
+               {"cells", st.cells},
+               {"drawn_cells", st.drawn_cells},
+               {"fragments", st.fragments},
+               {"max_fragments_per_pixel", st.max_fragments},
+               {"ordering_errors", st.ordering_errors},
+               {"cycle_breaks", st.order.cycle_breaks},
+               {"face_dependencies", st.order.face_dependencies},
+               {"ray_dependencies", st.order.ray_dependencies},
+               {"bytes_sent_per_tet", gpu::vicp_sent_bytes_per_cell(vicp.cpu_stage())},
+               {"stages_ms", {{"table", st.table_ms}, {"sort", st.sort_ms}, {"project", st.project_ms},
+                              {"setup", st.setup_ms}, {"raster_fragment", st.raster_fragment_ms}}}};
+    r.image = std::move(f.image);
+    r.fragments = std::move(f.fragments);
+    r.ordering_errors = std::move(f.ordering_errors);
+    return r;
+}
+
 }  // namespace
 
 void run_algorithm_check(const std::string& algo)
 {
-    if (algo == "reference" || algo == "havs") return;
-    if (algo == "vicp" || algo == "raycast")
-        throw InputError("", "--algo " + algo + " is not available yet: reference and havs have landed "
+    if (algo == "reference" || algo == "havs" || algo == "vicp") return;
+    if (algo == "raycast")
+        throw InputError("", "--algo " + algo + " is not available yet: reference, havs and vicp have landed "
                              "(docs/status.md)");
     throw InputError("", "unknown algorithm '" + algo + "' (reference, havs, vicp, raycast)");
 }
@@ -133,7 +180,8 @@ void run_algorithm_check(const std::string& algo)
 AlgoResult run_algorithm(const Scene& s, const std::string& algo, const AlgoOptions& o)
 {
     run_algorithm_check(algo);
-    return algo == "reference" ? run_reference(s, !o.no_cache) : run_havs(s, o);
+    if (algo == "reference") return run_reference(s, !o.no_cache);
+    return algo == "vicp" ? run_vicp(s, o) : run_havs(s, o);
 }
 
 std::vector<std::string> split_list(const std::string& s)

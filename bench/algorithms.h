@@ -9,6 +9,7 @@
 
 #include "bench/scene.h"
 #include "gpu/havs.h"
+#include "gpu/vicp.h"
 #include "reference/image.h"
 
 namespace uvr::cli {
@@ -20,6 +21,7 @@ struct AlgoOptions {
     int k = 6;
     std::string segment = "table";
     std::string gaps = "exact";
+    std::string order = "mpvonc";  // VICP's cell order
     double threshold = -1.0;  // per algorithm default (SPEC §3): HAVS 0.99
     int table_size = 128;
     std::string table_format = "f32";
@@ -30,16 +32,18 @@ struct AlgoOptions {
 // --table-format, --no-cache.
 void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k = true);
 gpu::HavsOptions havs_options(const AlgoOptions& o);
+gpu::VicpOptions vicp_options(const AlgoOptions& o);
 
 struct AlgoResult {
     Image image;
     double ms = 0.0;      // wall time of the render (0 for a cached reference)
     bool cached = false;  // reference taken from the cache
     nlohmann::json stats;
-    std::vector<uint32_t> fragments, max_held, ordering_errors;  // HAVS diagnostics, SPEC row order
+    // Diagnostics, SPEC row order: HAVS all three, VICP fragments and ordering errors.
+    std::vector<uint32_t> fragments, max_held, ordering_errors;
 };
 
-// algo: "reference" or "havs" (emu or gl). Throws InputError for an algorithm or backend that has not landed.
+// algo: "reference", "havs" (emu or gl) or "vicp" (emu). Throws InputError for an algorithm or backend that has not landed.
 AlgoResult run_algorithm(const Scene& scene, const std::string& algo, const AlgoOptions& o);
 
 // Throws InputError for an algorithm that is unknown or has not landed (before any work is done).

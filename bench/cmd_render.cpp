@@ -67,7 +67,7 @@ void register_render(CLI::App& app)
             std::filesystem::create_directories(a->diagnostics, ec);
             if (ec) throw InputError(a->diagnostics, "cannot create the directory: " + ec.message());
             write_counts(a->diagnostics + "/fragments", r.fragments, s.width, s.height);
-            write_counts(a->diagnostics + "/max_held", r.max_held, s.width, s.height);
+            if (!r.max_held.empty()) write_counts(a->diagnostics + "/max_held", r.max_held, s.width, s.height);
             write_counts(a->diagnostics + "/ordering_errors", r.ordering_errors, s.width, s.height);
         }
         if (a->json) {

@@ -6,6 +6,7 @@
 
 #include "reference/image.h"
 
+#include "image_errors.h"
 #include "test_support.h"
 
 using uvr::test::CommandResult;
@@ -135,7 +136,7 @@ TEST_CASE("bad input makes uvr exit non-zero with a message naming the file, nev
     }
     SECTION("a command whose algorithm has not landed says so")
     {
-        const CommandResult r = run_uvr("render builtin:torus-small --algo vicp --out /tmp/uvr-never-written.npy");
+        const CommandResult r = run_uvr("render builtin:torus-small --algo raycast --out /tmp/uvr-never-written.npy");
         CHECK(r.exit_code == 1);
         CHECK_THAT(r.err, Catch::Contains("not available yet"));
     }
@@ -204,6 +205,43 @@ TEST_CASE("an interrupted sweep resumed from disk gives the same numbers as one 
     const std::string csv = uvr::test::file_contents(tmp.file("b/sweep.csv"));
     CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + 2 * 3 * 2);
     unsetenv("UVR_CACHE_DIR");
+}
+
+TEST_CASE("uvr render --algo vicp renders the reference's image with exact segments and refuses what it lacks")
+{
+    TempDir tmp("cli-vicp");
+    const std::string scene = "render builtin:torus-small --size 64x48 --view 30,20 --no-cache ";
+    SECTION("exact segments and MPVONC: the reference's image, and the order's figures in the JSON")
+    {
+        const CommandResult ref = run_uvr(scene + "--algo reference --out '" + tmp.file("ref.npy") + "'");
+        const CommandResult vicp = run_uvr(scene + "--algo vicp --segment exact --order mpvonc --json --diagnostics '" +
+                                           tmp.file("diag") + "' --out '" + tmp.file("vicp.npy") + "'");
+        INFO(ref.err << vicp.err);
+        REQUIRE(ref.exit_code == 0);
+        REQUIRE(vicp.exit_code == 0);
+        const uvr::test::ImageErrors e =
+            uvr::test::image_errors(uvr::read_npy(tmp.file("vicp.npy")), uvr::read_npy(tmp.file("ref.npy")));
+        INFO("RMSE " << e.rmse << ", max " << e.max_abs);
+        CHECK(e.rmse <= 1e-5);  // issue 6's bar (tests/test_vicp.cpp)
+        const auto j = nlohmann::json::parse(vicp.out);
+        CHECK(j["algo"] == "vicp");
+        CHECK(j["ordering_errors"] == 0);
+        CHECK(j["cycle_breaks"] == 0);
+        CHECK(j["bytes_sent_per_tet"].get<double>() > 20.0);
+        CHECK(std::filesystem::exists(tmp.file("diag/ordering_errors.npy")));
+    }
+    SECTION("refusals: the GL backend, an unknown order")
+    {
+        for (const auto& [args, phrase] : {std::pair<std::string, std::string>{"--backend gl", "runs only in the emulation"},
+                                           {"--order painter", "--order must be centroid or mpvonc"}}) {
+            const std::string out = tmp.file("never.npy");
+            const CommandResult r = run_uvr(scene + "--algo vicp " + args + " --out '" + out + "'");
+            INFO(args << ": " << r.err);
+            CHECK(r.exit_code == 1);
+            CHECK(r.err.find(phrase) != std::string::npos);
+            CHECK(!std::filesystem::exists(out));
+        }
+    }
 }
 
 TEST_CASE("uvr render --algo havs --backend gl writes the emulation's image and refuses what GL cannot do")
