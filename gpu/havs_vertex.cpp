@@ -79,8 +79,8 @@ ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, 
         p[3][3] = 1.0;
     } else {
         if (!(n > 1e-6 * (f > 0 ? f : 1.0)))
-            throw InputError("", "the camera is inside or too close to the mesh's bounds: HAVS needs the mesh in front "
-                                 "of the eye (the draw module's near-plane clipping is not emulated)");
+            throw InputError("", "the camera is inside or too close to the mesh's bounds: HAVS and VICP need the mesh "
+                                 "in front of the eye (the draw module's near-plane clipping is not emulated)");
         const double t = 1.0 / std::tan(0.5 * cam.fovy_deg * 3.14159265358979323846 / 180.0);
         p[0][0] = t / aspect;
         p[1][1] = t;

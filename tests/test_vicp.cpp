@@ -218,3 +218,28 @@ TEST_CASE("MPVONC reports a visibility cycle and still draws every cell")
         CHECK(f.stats.ordering_errors == 0);
     }
 }
+
+TEST_CASE("VICP refuses a camera inside the mesh's bounds with a clear error")
+{
+    // As HAVS: no near-plane clipping is emulated (docs/robustness.md), so such a frame would be wrong.
+    const Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
+    Camera cam;
+    cam.eye = mesh_bounds(s.mesh).center();
+    cam.target = cam.eye + glm::dvec3(1.0, 0.0, 0.0);
+    const VicpRenderer vicp(s.mesh, s.topo, s.field, s.tf, VicpOptions{});
+    test::require_input_error([&] { vicp.render(cam, 32, 32); }, {"camera is inside", "VICP"});
+}
+
+TEST_CASE("far from the origin: VICP on coordinates at 1e8 with features at 1e-3 still equals the reference")
+{
+    // Positions relative to the mesh's centre (as HAVS's vertex buffer) and rays in the same frame keep the features.
+    TetMesh m = load_builtin("builtin:torus-small");
+    for (auto& p : m.points) p = glm::dvec3(1e8) + p * 1e-3;
+    const Scene s = test::make_scene(std::move(m), 0);
+    const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 30.0, 20.0);
+    const VicpFrame f = VicpRenderer(s.mesh, s.topo, s.field, s.tf, exact_options(CellOrder::mpvonc)).render(cam, 96, 96);
+    const test::ImageErrors e = test::image_errors(f.image, reference(s, cam, 96, 96));
+    INFO("RMSE " << e.rmse << ", max " << e.max_abs);
+    CHECK(e.rmse <= kConvergenceRmse);
+    CHECK(e.max_abs <= kConvergenceMax);
+}
