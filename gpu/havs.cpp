@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "gpu/rasterize.h"
+#include "gpu/tiles.h"
 #include "gpu/denormals.h"
 #include "reference/error.h"
 
@@ -18,9 +19,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// Screen tiles processed in parallel. Within a tile, faces are applied in sorted order to every pixel, exactly as a
-// GPU orders fragments per pixel, so the result does not depend on the number of threads.
-constexpr int kTile = 64;
 
 const HavsOptions& checked_k(const HavsOptions& options)
 {
@@ -86,25 +84,8 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     auto t0 = Clock::now();
 
     // Bin the sorted faces into screen tiles by their window-space bounding boxes.
-    const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
-    std::vector<std::vector<uint32_t>> bins(std::size_t(tiles_x) * std::size_t(tiles_y));
-    for (uint32_t f : fs.order) {
-        const uint32_t* v = &faces[3 * std::size_t(f)];
-        float x0 = win[v[0]].x, x1 = x0, y0 = win[v[0]].y, y1 = y0;
-        for (int j = 1; j < 3; ++j) {
-            x0 = std::min(x0, win[v[j]].x);
-            x1 = std::max(x1, win[v[j]].x);
-            y0 = std::min(y0, win[v[j]].y);
-            y1 = std::max(y1, win[v[j]].y);
-        }
-        if (!(x1 >= 0.0f && y1 >= 0.0f && x0 <= float(width) && y0 <= float(height))) continue;
-        const int tx0 = std::clamp(int(std::floor(x0)) / kTile, 0, tiles_x - 1);
-        const int tx1 = std::clamp(int(std::floor(x1)) / kTile, 0, tiles_x - 1);
-        const int ty0 = std::clamp(int(std::floor(y0)) / kTile, 0, tiles_y - 1);
-        const int ty1 = std::clamp(int(std::floor(y1)) / kTile, 0, tiles_y - 1);
-        for (int ty = ty0; ty <= ty1; ++ty)
-            for (int tx = tx0; tx <= tx1; ++tx) bins[std::size_t(ty) * std::size_t(tiles_x) + std::size_t(tx)].push_back(f);
-    }
+    ScreenTiles tiles(width, height);
+    for (uint32_t f : fs.order) tiles.add(f, win, &faces[3 * std::size_t(f)], 3);
     st.setup_ms = fs.vertex_ms + ms_since(t0);
 
     // The segment shader: the table as llvmpipe samples it, or the exact integral in double.
@@ -119,12 +100,11 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     std::vector<KBufferDiagnostics> diag(npix);
 
     t0 = Clock::now();
-    tbb::parallel_for(std::size_t(0), bins.size(), [&](std::size_t b) {
+    tbb::parallel_for(std::size_t(0), tiles.count(), [&](std::size_t b) {
         const FlushDenormals llvmpipe_mxcsr;  // the fragment stage rounds as llvmpipe's shaders do (gpu/denormals.h)
-        const int tx = int(b % std::size_t(tiles_x)), ty = int(b / std::size_t(tiles_x));
-        const int px0 = tx * kTile, px1 = std::min(width, px0 + kTile) - 1;
-        const int py0 = ty * kTile, py1 = std::min(height, py0 + kTile) - 1;
-        for (uint32_t f : bins[b]) {
+        int px0, px1, py0, py1;
+        tiles.pixels(b, px0, px1, py0, py1);
+        for (uint32_t f : tiles.items(b)) {
             const uint32_t* v = &faces[3 * std::size_t(f)];
             const WindowCoord wv[3] = {win[v[0]], win[v[1]], win[v[2]]};
             const TriangleSetup ts = setup_triangle(wv, fbuf);

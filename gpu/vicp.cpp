@@ -8,6 +8,7 @@
 
 #include "gpu/denormals.h"
 #include "gpu/rasterize.h"
+#include "gpu/tiles.h"
 
 namespace uvr::gpu {
 
@@ -15,9 +16,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// Screen tiles processed in parallel; within a tile the cells are applied in stream order, as a GPU orders the
-// fragments of one pixel, so the result does not depend on the number of threads.
-constexpr int kTile = 64;
 }  // namespace
 
 void store_vicp_frame(const std::vector<glm::vec4>& colour, const std::vector<VicpDiagnostics>& diag, int width,
@@ -69,26 +67,8 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
 
     // Bin the stream's cells into screen tiles by the bounding boxes of their four points.
     auto t0 = Clock::now();
-    const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
-    std::vector<std::vector<uint32_t>> bins(std::size_t(tiles_x) * std::size_t(tiles_y));
-    for (uint32_t slot = 0; slot < stream.size(); ++slot) {
-        const Tet& t = stream[slot].v;
-        float x0 = win[t[0]].x, x1 = x0, y0 = win[t[0]].y, y1 = y0;
-        for (int j = 1; j < 4; ++j) {
-            x0 = std::min(x0, win[t[j]].x);
-            x1 = std::max(x1, win[t[j]].x);
-            y0 = std::min(y0, win[t[j]].y);
-            y1 = std::max(y1, win[t[j]].y);
-        }
-        if (!(x1 >= 0.0f && y1 >= 0.0f && x0 <= float(width) && y0 <= float(height))) continue;
-        const int tx0 = std::clamp(int(std::floor(x0)) / kTile, 0, tiles_x - 1);
-        const int tx1 = std::clamp(int(std::floor(x1)) / kTile, 0, tiles_x - 1);
-        const int ty0 = std::clamp(int(std::floor(y0)) / kTile, 0, tiles_y - 1);
-        const int ty1 = std::clamp(int(std::floor(y1)) / kTile, 0, tiles_y - 1);
-        for (int ty = ty0; ty <= ty1; ++ty)
-            for (int tx = tx0; tx <= tx1; ++tx)
-                bins[std::size_t(ty) * std::size_t(tiles_x) + std::size_t(tx)].push_back(slot);
-    }
+    ScreenTiles tiles(width, height);
+    for (uint32_t slot = 0; slot < stream.size(); ++slot) tiles.add(slot, win, stream[slot].v.data(), 4);
     st.setup_ms = fs.vertex_ms + ms_since(t0);
 
     const SegmentShader shade =
@@ -98,12 +78,11 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
     std::vector<VicpDiagnostics> diag(npix);
 
     t0 = Clock::now();
-    tbb::parallel_for(std::size_t(0), bins.size(), [&](std::size_t b) {
+    tbb::parallel_for(std::size_t(0), tiles.count(), [&](std::size_t b) {
         const FlushDenormals llvmpipe_mxcsr;  // as llvmpipe's shader threads (gpu/denormals.h)
-        const int tx = int(b % std::size_t(tiles_x)), ty = int(b / std::size_t(tiles_x));
-        const int px0 = tx * kTile, px1 = std::min(width, px0 + kTile) - 1;
-        const int py0 = ty * kTile, py1 = std::min(height, py0 + kTile) - 1;
-        for (uint32_t slot : bins[b]) {
+        int px0, px1, py0, py1;
+        tiles.pixels(b, px0, px1, py0, py1);
+        for (uint32_t slot : tiles.items(b)) {
             const Tet& t = stream[slot].v;
             bool have_constants = false;
             VicpTet tet;

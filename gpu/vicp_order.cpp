@@ -46,16 +46,14 @@ struct Crossing {
     bool entry;
 };
 
-// The distance along pixel (px, py)'s ray to the plane of triangle (a, b, c) (points relative to the rays' origin
-// frame), as a multiple of the ray's (unnormalized) direction: the order along one ray is all that matters.
-double crossing_distance(const VicpFrameConstants& fc, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
-                         int px, int py)
+// The distance along pixel (px, py)'s ray to the plane through `a` with normal `n` (in the rays' frame), as a
+// multiple of the ray's (unnormalized) direction: the order along one ray is all that matters.
+double crossing_distance(const VicpFrameConstants& fc, const glm::dvec3& a, const glm::dvec3& n, int px, int py)
 {
     const double ndc_x = (double(px) + 0.5) * fc.two_over_width - 1.0;
     const double ndc_y = (double(py) + 0.5) * fc.two_over_height - 1.0;
     const glm::dvec3 o = fc.eye + ndc_x * fc.ray_ox + ndc_y * fc.ray_oy;
     const glm::dvec3 d = fc.ray_d0 + ndc_x * fc.ray_dx + ndc_y * fc.ray_dy;
-    const glm::dvec3 n = glm::cross(b - a, c - a);
     return glm::dot(n, a - o) / glm::dot(n, d);
 }
 
@@ -69,8 +67,9 @@ std::vector<std::pair<uint32_t, uint32_t>> ray_dependencies(const TetMesh& mesh,
     for (const Face& f : topo.faces) {
         if (!f.boundary()) continue;
         const WindowCoord wv[3] = {win[f.v[0]], win[f.v[1]], win[f.v[2]]};
-        const glm::dvec3 a = mesh.points[f.v[0]] - fr.origin, b = mesh.points[f.v[1]] - fr.origin,
-                         c = mesh.points[f.v[2]] - fr.origin;
+        const glm::dvec3 a = mesh.points[f.v[0]] - fr.origin;
+        const glm::dvec3& p0 = mesh.points[f.v[0]];
+        const glm::dvec3 n = glm::cross(mesh.points[f.v[1]] - p0, mesh.points[f.v[2]] - p0);
         const TriangleSetup ts = setup_triangle(wv, fbuf);
         if (ts.empty()) continue;
         const bool entry = ts.facing == Facing::front;  // outward faces: seen from outside, the ray enters
@@ -79,7 +78,7 @@ std::vector<std::pair<uint32_t, uint32_t>> ray_dependencies(const TetMesh& mesh,
             row_span(ts, py, first, last);
             for (int px = first; px <= last; ++px)
                 xs.push_back({uint32_t(py) * uint32_t(fr.width) + uint32_t(px),
-                              crossing_distance(*fr.fc, a, b, c, px, py), uint32_t(f.tet[0]), entry});
+                              crossing_distance(*fr.fc, a, n, px, py), uint32_t(f.tet[0]), entry});
         }
     }
     // Along each ray: by distance, an exit before an entry at the same distance, then by cell (deterministic).
