@@ -5,6 +5,7 @@
 
 #include "bench/progress.h"
 #include "gpu/gl_havs.h"
+#include "gpu/gl_vicp.h"
 #include "reference/error.h"
 #include "reference/image_cache.h"
 #include "reference/reference_renderer.h"
@@ -135,17 +136,10 @@ AlgoResult run_havs(const Scene& s, const AlgoOptions& a)
     return r;
 }
 
-AlgoResult run_vicp(const Scene& s, const AlgoOptions& a)
+AlgoResult vicp_result(gpu::VicpFrame f, const gpu::VicpMesh& vm, const AlgoOptions& a, double ms)
 {
-    if (a.backend == "gl")
-        throw InputError("", "--algo vicp runs only in the emulation so far (--backend emu): its GLSL twin is issue "
-                             "6's open part (docs/vicp.md)");
-    if (a.backend != "emu") throw InputError("", "--backend must be emu or gl, not '" + a.backend + "'");
-    const auto t0 = Clock::now();
-    const gpu::VicpRenderer vicp(s.mesh(), *s.topology, s.field, s.tf, vicp_options(a));
-    gpu::VicpFrame f = vicp.render(s.camera, s.width, s.height);
     AlgoResult r;
-    r.ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    r.ms = ms;
     const auto& st = f.stats;
     r.stats = {{"order", a.order},
                {"segment", a.segment},
@@ -157,12 +151,31 @@ AlgoResult run_vicp(const Scene& s, const AlgoOptions& a)
                {"cycle_breaks", st.order.cycle_breaks},
                {"face_dependencies", st.order.face_dependencies},
                {"ray_dependencies", st.order.ray_dependencies},
-               {"bytes_sent_per_tet", gpu::vicp_sent_bytes_per_cell(vicp.cpu_stage())},
+               {"bytes_sent_per_tet", gpu::vicp_sent_bytes_per_cell(vm)},
                {"stages_ms", {{"table", st.table_ms}, {"sort", st.sort_ms}, {"project", st.project_ms},
                               {"setup", st.setup_ms}, {"raster_fragment", st.raster_fragment_ms}}}};
     r.image = std::move(f.image);
     r.fragments = std::move(f.fragments);
     r.ordering_errors = std::move(f.ordering_errors);
+    return r;
+}
+
+AlgoResult run_vicp(const Scene& s, const AlgoOptions& a)
+{
+    if (a.backend != "emu" && a.backend != "gl")
+        throw InputError("", "--backend must be emu or gl, not '" + a.backend + "'");
+    const auto t0 = Clock::now();
+    auto ms = [&] { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); };
+    if (a.backend == "emu") {
+        const gpu::VicpRenderer vicp(s.mesh(), *s.topology, s.field, s.tf, vicp_options(a));
+        gpu::VicpFrame f = vicp.render(s.camera, s.width, s.height);
+        return vicp_result(std::move(f), vicp.cpu_stage(), a, ms());
+    }
+    gpu::GlContext ctx(gpu::parse_gl_platform(a.gl));
+    gpu::GlVicpRenderer vicp(ctx, s.mesh(), *s.topology, s.field, s.tf, vicp_options(a));
+    gpu::VicpFrame f = vicp.render(s.camera, s.width, s.height);
+    AlgoResult r = vicp_result(std::move(f), vicp.cpu_stage(), a, ms());
+    r.stats["gl"] = ctx.info().summary();
     return r;
 }
 

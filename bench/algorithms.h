@@ -43,7 +43,7 @@ struct AlgoResult {
     std::vector<uint32_t> fragments, max_held, ordering_errors;
 };
 
-// algo: "reference", "havs" (emu or gl) or "vicp" (emu). Throws InputError for an algorithm or backend that has not landed.
+// algo: "reference", "havs" or "vicp" (emu or gl). Throws InputError for an algorithm or backend that has not landed.
 AlgoResult run_algorithm(const Scene& scene, const std::string& algo, const AlgoOptions& o);
 
 // Throws InputError for an algorithm that is unknown or has not landed (before any work is done).

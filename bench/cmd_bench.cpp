@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <memory>
 #include <sstream>
 #include <thread>
 
@@ -14,6 +15,7 @@
 #include "bench/commands.h"
 #include "bench/scene.h"
 #include "gpu/gl_havs.h"
+#include "gpu/gl_vicp.h"
 #include "bench/algorithms.h"
 #include "reference/error.h"
 #include "reference/reference_renderer.h"
@@ -153,19 +155,29 @@ nlohmann::json bench_havs(const Scene& s, const BenchArgs& a, const std::string&
     return j;
 }
 
-// Times VICP (the emulation) with one cell order.
-nlohmann::json bench_vicp(const Scene& s, const BenchArgs& a, const std::string& order)
+// Times VICP with one cell order on one backend: the emulation, or GL on the chosen platform.
+nlohmann::json bench_vicp(const Scene& s, const BenchArgs& a, const std::string& order, const std::string& backend)
 {
     gpu::VicpOptions o;
     o.order = gpu::parse_cell_order(order);
     const auto t0 = Clock::now();
-    const gpu::VicpRenderer vicp(s.mesh(), *s.topology, s.field, s.tf, o);
+    std::unique_ptr<gpu::GlContext> ctx;
+    std::unique_ptr<gpu::VicpRenderer> emu;
+    std::unique_ptr<gpu::GlVicpRenderer> gl;
+    if (backend == "emu") {
+        emu = std::make_unique<gpu::VicpRenderer>(s.mesh(), *s.topology, s.field, s.tf, o);
+    } else {
+        ctx = std::make_unique<gpu::GlContext>(gpu::parse_gl_platform(a.gl));
+        gl = std::make_unique<gpu::GlVicpRenderer>(*ctx, s.mesh(), *s.topology, s.field, s.tf, o);
+    }
+    const gpu::VicpMesh& vm = emu ? emu->cpu_stage() : gl->cpu_stage();
     const double build_ms = ms_since(t0);
-    std::vector<double> frame_ms, sort_ms, project_ms, setup_ms, raster_ms;
+    std::vector<double> frame_ms, sort_ms, project_ms, setup_ms, raster_ms, readback_ms;
     gpu::VicpStats last;
     for (int r = 0; r < a.warmup + a.repeat; ++r) {
         const auto f0 = Clock::now();
-        const gpu::VicpFrame f = vicp.render(s.camera, s.width, s.height);
+        const gpu::VicpFrame f =
+            emu ? emu->render(s.camera, s.width, s.height) : gl->render(s.camera, s.width, s.height);
         const double ms = ms_since(f0);
         if (r < a.warmup) continue;
         frame_ms.push_back(ms);
@@ -173,12 +185,14 @@ nlohmann::json bench_vicp(const Scene& s, const BenchArgs& a, const std::string&
         project_ms.push_back(f.stats.project_ms);
         setup_ms.push_back(f.stats.setup_ms);
         raster_ms.push_back(f.stats.raster_fragment_ms);
+        readback_ms.push_back(f.stats.readback_ms);
         last = f.stats;
     }
     const double fm = median(frame_ms);
     nlohmann::json j;
     j["algo"] = "vicp";
-    j["backend"] = "emu";
+    j["backend"] = backend;
+    if (ctx) j["gl"] = ctx->info().summary();
     j["order"] = order;
     j["frame_ms"] = fm;
     j["frame_ms_all"] = frame_ms;
@@ -186,16 +200,17 @@ nlohmann::json bench_vicp(const Scene& s, const BenchArgs& a, const std::string&
     j["stages"] = {{"sort", median(sort_ms)},
                    {"project", median(project_ms)},
                    {"vertex_and_setup", median(setup_ms)},
-                   {"raster_and_fragment", median(raster_ms)}};
+                   {"raster_and_fragment", median(raster_ms)},
+                   {"readback", median(readback_ms)}};
     j["cells"] = last.cells;
     j["tetrahedra_per_s"] = double(s.mesh().tets.size()) / (fm / 1000.0);
     j["fragments"] = last.fragments;
     j["fragments_per_s"] = double(last.fragments) / (median(raster_ms) / 1000.0);
     j["ordering_errors"] = last.ordering_errors;
     j["cycle_breaks"] = last.order.cycle_breaks;
-    j["bytes_sent_per_tet"] = gpu::vicp_sent_bytes_per_cell(vicp.cpu_stage());
-    j["seed_bytes_sent_per_tet"] = 132 * sizeof(float);
-    j["resident_bytes_per_tet"] = gpu::vicp_resident_bytes_per_cell(vicp.cpu_stage());
+    j["bytes_sent_per_tet"] = gpu::vicp_sent_bytes_per_cell(vm);
+    j["seed_bytes_sent_per_tet"] = gpu::kSeedBytesSentPerCell;
+    j["resident_bytes_per_tet"] = gpu::vicp_resident_bytes_per_cell(vm);
     return j;
 }
 
@@ -241,8 +256,8 @@ void register_bench(CLI::App& app)
                 continue;
             }
             if (x == "vicp") {
-                // VICP's GLSL twin has not landed: the emulation only (docs/vicp.md).
-                for (const auto& o : orders) out["results"].push_back(bench_vicp(s, *a, o));
+                for (const auto& b : backends)
+                    for (const auto& o : orders) out["results"].push_back(bench_vicp(s, *a, o, b));
                 continue;
             }
             for (const auto& b : backends) out["results"].push_back(bench_havs(s, *a, b));

@@ -87,7 +87,12 @@ GlPlatform parse_gl_platform(const std::string& name);        // throws InputErr
     X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                                                        \
     X(PFNGLBINDBUFFERPROC, BindBuffer)                                                                              \
     X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                                                                      \
-    X(PFNGLBUFFERDATAPROC, BufferData)
+    X(PFNGLBUFFERDATAPROC, BufferData)                                                                              \
+    X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)                                                                  \
+    X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                                                        \
+    X(PFNGLUNIFORM3DPROC, Uniform3d)                                                                                \
+    X(PFNGLCULLFACEPROC, CullFace)                                                                                  \
+    X(PFNGLFRONTFACEPROC, FrontFace)
 
 struct GlFunctions {
 #define UVR_GL_MEMBER(type, name) type name = nullptr;

@@ -6,6 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "gpu/gl_framebuffer.h"
 #include "gpu/gl_havs_fragment.h"
 #include "reference/error.h"
 
@@ -29,14 +30,12 @@ struct GlHavsRenderer::Objects {
     GLuint mesh_vao = 0, empty_vao = 0;
     GLuint vertex_buffer = 0, element_buffer = 0, face_buffer = 0;
     GLuint table_texture = 0;
-    GLuint fbo = 0;
-    std::vector<GLuint> attachments;  // colour, k-buffer targets, diagnostics
-    int width = 0, height = 0;
+    std::unique_ptr<GlFloatFramebuffer> framebuffer;  // colour, k-buffer targets, diagnostics
 
     explicit Objects(const GlFunctions& g) : gl(g) {}
     ~Objects()
     {
-        release_framebuffer();
+        framebuffer.reset();
         geometry.reset();
         flush.reset();
         const GLuint buffers[] = {vertex_buffer, element_buffer, face_buffer};
@@ -44,17 +43,6 @@ struct GlHavsRenderer::Objects {
         const GLuint vaos[] = {mesh_vao, empty_vao};
         gl.DeleteVertexArrays(2, vaos);
         if (table_texture) gl.DeleteTextures(1, &table_texture);
-    }
-    void release_framebuffer()
-    {
-        if (fbo) {
-            gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-            gl.DeleteFramebuffers(1, &fbo);
-            fbo = 0;
-        }
-        if (!attachments.empty()) gl.DeleteTextures(GLsizei(attachments.size()), attachments.data());
-        attachments.clear();
-        width = height = 0;
     }
 };
 
@@ -107,8 +95,8 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
         {"HAVS_K", std::to_string(k)}, {"HAVS_TARGETS", std::to_string(entry_targets(k))}};
     if (diagnostics_) defines.push_back({"HAVS_DIAGNOSTICS", "1"});
     const std::vector<std::string> extensions = {kInt64, kFramebufferFetch};
-    const std::vector<std::string> files = {"havs_fragment.frag", "havs.frag"};
-    gl_->geometry = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"havs_vertex.vert"}, {}, {}},
+    const std::vector<std::string> files = {"preintegration_table.frag", "havs_fragment.frag", "havs.frag"};
+    gl_->geometry = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"clip_position.vert", "havs_vertex.vert"}, {}, {}},
                                                 GlShaderSource{files, defines, extensions});
     defines.push_back({"HAVS_PASS_FLUSH", "1"});
     gl_->flush = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"fullscreen.vert"}, {}, {}},
@@ -130,6 +118,8 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     gl.GenBuffers(1, &gl_->face_buffer);
 
     upload_preintegration_table(ctx_, *mesh_.table(), mesh_.options().filter, gl_->table_texture);
+    gl_->framebuffer = std::make_unique<GlFloatFramebuffer>(ctx_, 1 + entry_targets(k) + (diagnostics_ ? 1 : 0),
+                                                            "the HAVS framebuffer");
     ctx_.check_error("setting up HAVS on GL");
 }
 
@@ -144,7 +134,6 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     ctx_.make_current();
     const GlFunctions& gl = ctx_.gl();
     const int k = mesh_.options().k, targets = entry_targets(k);
-    const int attachments = 1 + targets + (diagnostics_ ? 1 : 0);
 
     HavsFrame out;
     HavsStats& st = out.stats;
@@ -166,31 +155,7 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(uint32_t)), indices.data(),
                   GL_STREAM_DRAW);
 
-    // The framebuffer: RGBA32F attachments, made again when the size changes.
-    if (gl_->width != width || gl_->height != height) {
-        gl_->release_framebuffer();
-        gl.GenFramebuffers(1, &gl_->fbo);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, gl_->fbo);
-        gl_->attachments.resize(std::size_t(attachments));
-        gl.GenTextures(GLsizei(attachments), gl_->attachments.data());
-        gl.ActiveTexture(GL_TEXTURE0);
-        for (int i = 0; i < attachments; ++i) {
-            gl.BindTexture(GL_TEXTURE_2D, gl_->attachments[std::size_t(i)]);
-            gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, nullptr);
-            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-            gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-            gl.FramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + i), GL_TEXTURE_2D,
-                                    gl_->attachments[std::size_t(i)], 0);
-        }
-        std::vector<GLenum> bufs;
-        for (int i = 0; i < attachments; ++i) bufs.push_back(GLenum(GL_COLOR_ATTACHMENT0 + i));
-        gl.DrawBuffers(GLsizei(attachments), bufs.data());
-        check_framebuffer(ctx_, "the HAVS framebuffer");
-        gl_->width = width;
-        gl_->height = height;
-    }
-    gl.BindFramebuffer(GL_FRAMEBUFFER, gl_->fbo);
-    gl.Viewport(0, 0, width, height);
+    gl_->framebuffer->bind(width, height);
     gl.Disable(GL_BLEND);
     gl.Disable(GL_DEPTH_TEST);
     gl.Disable(GL_CULL_FACE);
@@ -249,16 +214,9 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     // Read back (exact for float attachments), flipping GL rows to SPEC rows.
     t0 = Clock::now();
     const std::size_t npix = std::size_t(width) * std::size_t(height);
-    std::vector<glm::vec4> colour(npix), diag;
-    gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    gl.ReadBuffer(GL_COLOR_ATTACHMENT0);
-    gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, colour.data());
-    if (diagnostics_) {
-        diag.resize(npix);
-        gl.ReadBuffer(GLenum(GL_COLOR_ATTACHMENT0 + 1 + targets));
-        gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, diag.data());
-    }
-    ctx_.check_error("reading the HAVS frame back");
+    const std::vector<glm::vec4> colour = gl_->framebuffer->read(0);
+    std::vector<glm::vec4> diag;
+    if (diagnostics_) diag = gl_->framebuffer->read(1 + targets);
     st.readback_ms = ms_since(t0);
 
     // The diagnostics attachment holds havs_diag: counts as exact floats.

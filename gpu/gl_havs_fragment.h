@@ -29,7 +29,7 @@ static_assert(sizeof(GlHavsFace) == 200 && offsetof(GlHavsFace, v) == 72 && offs
 
 GlHavsFace pack_havs_face(const HavsFace& f);
 
-// Uploads `table` as the 3D texture havs_table samples (texture unit 4; GL_RGBA32F, GL_RGBA16 or GL_RGBA8 after its
+// Uploads `table` as the 3D texture preintegration_table.frag samples (texture unit 4; GL_RGBA32F, GL_RGBA16 or GL_RGBA8 after its
 // format, data() as it is), with `filter` for magnification and minification and CLAMP_TO_EDGE. Creates `texture`
 // when it is 0. Leaves texture unit 4 active.
 void upload_preintegration_table(const GlContext& ctx, const PreintegrationTable& table, TextureFilter filter,

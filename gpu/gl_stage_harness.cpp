@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "gpu/gl_harness_pass.h"
 #include "gpu/gl_havs_fragment.h"
 #include "reference/error.h"
 
@@ -13,104 +14,12 @@ namespace uvr::gpu {
 
 namespace {
 
-// What every output attachment is cleared to: a value no case produces, so a pixel whose outputs all still hold it
-// was discarded.
-constexpr float kSentinel = -1.0e30f;
-
 bool is_sentinel(const float* v)
 {
     for (int c = 0; c < 4; ++c)
-        if (std::memcmp(&v[c], &kSentinel, sizeof(float)) != 0) return false;
+        if (std::memcmp(&v[c], &kHarnessSentinel, sizeof(float)) != 0) return false;
     return true;
 }
-
-// The GL objects of one pass, deleted when it ends (also when a check throws).
-struct PassObjects {
-    const GlFunctions& gl;
-    std::vector<GLuint> textures, buffers;
-    GLuint fbo = 0;
-    explicit PassObjects(const GlFunctions& g) : gl(g) {}
-    ~PassObjects()
-    {
-        if (!textures.empty()) gl.DeleteTextures(GLsizei(textures.size()), textures.data());
-        if (!buffers.empty()) gl.DeleteBuffers(GLsizei(buffers.size()), buffers.data());
-        if (fbo) {
-            gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-            gl.DeleteFramebuffers(1, &fbo);
-        }
-    }
-    GLuint texture(GLenum target, int unit)
-    {
-        GLuint t = 0;
-        gl.GenTextures(1, &t);
-        textures.push_back(t);
-        gl.ActiveTexture(GLenum(GL_TEXTURE0 + unit));
-        gl.BindTexture(target, t);
-        // No mipmaps: without GL_NEAREST as the minification filter the texture would be incomplete.
-        gl.TexParameteri(target, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        gl.TexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        return t;
-    }
-    // An RGBA32F input texture holding `texels` (width x height, 4 floats each) on texture unit `unit`.
-    void input_2d(int unit, const std::vector<float>& texels, int width, int height)
-    {
-        texture(GL_TEXTURE_2D, unit);
-        gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, texels.data());
-    }
-    GLuint storage(int binding, const void* data, std::size_t bytes)
-    {
-        GLuint b = 0;
-        gl.GenBuffers(1, &b);
-        buffers.push_back(b);
-        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, b);
-        gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(bytes), data, GL_STATIC_DRAW);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(binding), b);
-        return b;
-    }
-    // An FBO of colour attachments of the given formats (RGBA32F or RGBA32UI), drawn into in order, cleared to the
-    // sentinel (all bits set for the integer ones).
-    void targets(const GlContext& ctx, const std::vector<GLenum>& formats, int width, int height)
-    {
-        gl.GenFramebuffers(1, &fbo);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
-        std::vector<GLenum> draw;
-        for (std::size_t i = 0; i < formats.size(); ++i) {
-            const GLuint t = texture(GL_TEXTURE_2D, 15);
-            const bool integer = formats[i] == GL_RGBA32UI;
-            gl.TexImage2D(GL_TEXTURE_2D, 0, GLint(formats[i]), width, height, 0, integer ? GL_RGBA_INTEGER : GL_RGBA,
-                          integer ? GL_UNSIGNED_INT : GL_FLOAT, nullptr);
-            gl.FramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + i), GL_TEXTURE_2D, t, 0);
-            draw.push_back(GLenum(GL_COLOR_ATTACHMENT0 + i));
-        }
-        gl.DrawBuffers(GLsizei(draw.size()), draw.data());
-        check_framebuffer(ctx, "the stage harness's render targets");
-        const float clear[4] = {kSentinel, kSentinel, kSentinel, kSentinel};
-        const GLuint clear_u[4] = {~0u, ~0u, ~0u, ~0u};
-        for (std::size_t i = 0; i < formats.size(); ++i) {
-            if (formats[i] == GL_RGBA32UI)
-                gl.ClearBufferuiv(GL_COLOR, GLint(i), clear_u);
-            else
-                gl.ClearBufferfv(GL_COLOR, GLint(i), clear);
-        }
-        gl.Viewport(0, 0, width, height);
-    }
-    std::vector<uint32_t> read_uint(int attachment, int width, int height)
-    {
-        std::vector<uint32_t> out(std::size_t(width) * std::size_t(height) * 4);
-        gl.ReadBuffer(GLenum(GL_COLOR_ATTACHMENT0 + attachment));
-        gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-        gl.ReadPixels(0, 0, width, height, GL_RGBA_INTEGER, GL_UNSIGNED_INT, out.data());
-        return out;
-    }
-    std::vector<float> read(int attachment, int width, int height)
-    {
-        std::vector<float> out(std::size_t(width) * std::size_t(height) * 4);
-        gl.ReadBuffer(GLenum(GL_COLOR_ATTACHMENT0 + attachment));
-        gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-        gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, out.data());
-        return out;
-    }
-};
 
 }  // namespace
 
@@ -138,7 +47,7 @@ const GlProgram& GlHavsFragmentHarness::program(int k, int mode)
     auto& p = programs_[{k, mode}];
     if (!p) {
         GlShaderSource vs{{"fullscreen.vert"}, {}, {}};
-        GlShaderSource fs{{"havs_fragment.frag", "havs_fragment_harness.frag"},
+        GlShaderSource fs{{"preintegration_table.frag", "havs_fragment.frag", "havs_fragment_harness.frag"},
                           {{"HAVS_K", std::to_string(std::max(k, 1))}},
                           {"GL_ARB_gpu_shader_int64"}};
         if (k == 0) {
@@ -208,7 +117,7 @@ KBufferResults GlHavsFragmentHarness::run_kbuffer(const HavsFrameConstants& fc, 
             inc[i * 4 + 1] = cases.incoming[base + i].y;
             if (shade == HarnessShade::per_case) std::memcpy(&col[i * 4], &cases.shade[base + i][0], sizeof(float) * 4);
         }
-        PassObjects pass(gl);
+        HarnessPass pass(gl);
         pass.texture(GL_TEXTURE_2D_ARRAY, 0);
         gl.TexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_RGBA32F, w, h, layers, 0, GL_RGBA, GL_FLOAT, entries.data());
         pass.input_2d(1, fbuf, w, h);
@@ -271,7 +180,7 @@ std::vector<KEntry> GlHavsFragmentHarness::run_entry(const HavsFrameConstants& f
             packed[i] = pack_havs_face(faces[base + i]);
             pix[i] = pixels[base + i];
         }
-        PassObjects pass(gl);
+        HarnessPass pass(gl);
         pass.storage(0, packed.data(), packed.size() * sizeof(GlHavsFace));
         pass.storage(1, pix.data(), pix.size() * sizeof(glm::ivec2));
         pass.targets(ctx_, {GL_RGBA32F, GL_RGBA32UI}, w, h);

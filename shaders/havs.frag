@@ -20,7 +20,7 @@ layout(location = HAVS_TARGETS + 1) inout vec4 havs_diagnostics;  // havs_diag o
 
 vec4 havs_shade(float u_front, float u_back, float t_z, float seg_length)
 {
-    return havs_table_lookup(u_front, u_back, t_z);
+    return preintegration_lookup(u_front, u_back, t_z);
 }
 
 void main()

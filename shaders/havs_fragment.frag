@@ -2,7 +2,8 @@
 // Read that file's header first; the comments here only say where GLSL needs care.
 //
 // This file holds the stage's functions, no main(): a pass appends its own main (the harness:
-// havs_fragment_harness.frag), which also defines havs_shade(), the segment lookup. The prelude gpu/gl_context.cpp
+// havs_fragment_harness.frag), which also defines havs_shade(), the segment lookup. preintegration_table.frag is
+// compiled in front of it. The prelude gpu/gl_context.cpp
 // puts in front carries the pass's defines,
 //   HAVS_K            the number of stored entries, 1 .. (draw buffers - 1) * 2 in a real pass,
 //   HAVS_DIAGNOSTICS  (optional) havs_kbuffer also updates havs_diag, the emulation's KBufferDiagnostics,
@@ -102,16 +103,9 @@ vec2 havs_fragment_entry(HavsFace f, ivec2 pix)
     return vec2(float(d.x), float(d.y));
 }
 
-// What the segment contributes: each pass defines it (havs_table_lookup below in a real pass; the harness records its
+// What the segment contributes: each pass defines it (preintegration_lookup in a real pass; the harness records its
 // arguments and may return a given colour instead).
 vec4 havs_shade(float u_front, float u_back, float t_z, float seg_length);
-
-// The 3D pre-integrated table (gpu/preintegration_table.h), GL_LINEAR, CLAMP_TO_EDGE: texture 4 of the seed.
-layout(binding = 4) uniform sampler3D havs_table;
-vec4 havs_table_lookup(float u_front, float u_back, float t_z)
-{
-    return texture(havs_table, vec3(u_front, u_back, t_z));
-}
 
 
 bool havs_real_entry(vec2 e) { return e.y > 0.0 && e.y < uintBitsToFloat(0x7f800000u); }

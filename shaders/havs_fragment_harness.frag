@@ -2,8 +2,9 @@
 // pixel: one test case per pixel of a full-screen pass (gpu/gl_stage_harness.cpp). Exactly one of
 //   HARNESS_ENTRY     havs_fragment_entry on face havs_faces[case] at pixel harness_pixels[case]
 //   HARNESS_KBUFFER   havs_kbuffer on the case's stored entries, framebuffer colour and incoming entry
-// is defined; with HARNESS_KBUFFER, HARNESS_SHADE_TABLE looks segments up in the real 3D table (havs_table),
-// otherwise havs_shade returns the case's colour from a texture, isolating the k-buffer logic from the table.
+// is defined; with HARNESS_KBUFFER, HARNESS_SHADE_TABLE looks segments up in the real 3D table
+// (preintegration_table.frag), otherwise havs_shade returns the case's colour from a texture, isolating the k-buffer
+// logic from the table.
 // Textures are read with texelFetch (no filtering: the bits as uploaded).
 
 uniform int harness_width;  // pixels per row: case = y * harness_width + x (+ harness_base)
@@ -44,7 +45,7 @@ vec4 havs_shade(float u_front, float u_back, float t_z, float seg_length)
 {
     harness_args = vec4(u_front, u_back, t_z, seg_length);
 #if defined(HARNESS_SHADE_TABLE)
-    return havs_table_lookup(u_front, u_back, t_z);
+    return preintegration_lookup(u_front, u_back, t_z);
 #else
     return texelFetch(in_shade, ivec2(gl_FragCoord.xy), 0);
 #endif

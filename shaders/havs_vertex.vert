@@ -1,21 +1,11 @@
-// HAVS's vertex stage (seed 000, Appendix I): the GLSL twin of gpu/havs_vertex.cpp clip_position. World position to
-// clip coordinates with the model-view-projection matrix the CPU built in double and rounded to float once; each row
-// as ((m0 * x + m1 * y) + m2 * z) + m3, every result `precise` so that no compiler fuses or reorders it. What the
-// rasterizer does next (the draw module's viewport transform, snapping) is emulated in gpu/rasterize.cpp.
+// HAVS's vertex stage (seed 000, Appendix I): the GLSL twin of gpu/havs_vertex.cpp's clip_position, which
+// clip_position.vert (compiled in front of this file) holds. The face's vertices come from the vertex buffer of float
+// positions relative to the mesh's centre (HavsMesh::points_f).
 
 layout(location = 0) in vec3 havs_position;
-uniform mat4 havs_mvp;  // column-major, as Mat4f: havs_mvp[c][r] is column c, row r
-
-float havs_clip_row(int r)
-{
-    precise float acc = havs_mvp[0][r] * havs_position.x;
-    acc = acc + havs_mvp[1][r] * havs_position.y;
-    acc = acc + havs_mvp[2][r] * havs_position.z;
-    acc = acc + havs_mvp[3][r];
-    return acc;
-}
+uniform mat4 havs_mvp;  // column-major, as Mat4f
 
 void main()
 {
-    gl_Position = vec4(havs_clip_row(0), havs_clip_row(1), havs_clip_row(2), havs_clip_row(3));
+    gl_Position = clip_position(havs_mvp, havs_position);
 }

@@ -230,10 +230,28 @@ TEST_CASE("uvr render --algo vicp renders the reference's image with exact segme
         CHECK(j["bytes_sent_per_tet"].get<double>() > 20.0);
         CHECK(std::filesystem::exists(tmp.file("diag/ordering_errors.npy")));
     }
-    SECTION("refusals: the GL backend, an unknown order")
+    SECTION("--backend gl: the emulation's image, bit for bit, and its diagnostics")
     {
-        for (const auto& [args, phrase] : {std::pair<std::string, std::string>{"--backend gl", "runs only in the emulation"},
-                                           {"--order painter", "--order must be centroid or mpvonc"}}) {
+        for (const char* order : {"mpvonc", "centroid"}) {
+            const std::string args = scene + "--algo vicp --order " + order + " --diagnostics '" + tmp.file(order);
+            const CommandResult emu = run_uvr(args + "-emu' --out '" + tmp.file("emu.npy") + "'");
+            const CommandResult gl = run_uvr(args + "-gl' --backend gl --gl osmesa --json --out '" +
+                                             tmp.file("gl.npy") + "'");
+            INFO(order << ": " << emu.err << gl.err);
+            REQUIRE(emu.exit_code == 0);
+            REQUIRE(gl.exit_code == 0);
+            CHECK(file_contents(tmp.file("gl.npy")) == file_contents(tmp.file("emu.npy")));
+            for (const char* d : {"fragments.npy", "ordering_errors.npy"})
+                CHECK(file_contents(tmp.file(order) + "-gl/" + d) == file_contents(tmp.file(order) + "-emu/" + d));
+            CHECK_THAT(nlohmann::json::parse(gl.out)["gl"].get<std::string>(), Catch::Contains("llvmpipe"));
+        }
+    }
+    SECTION("refusals: exact segments on GL, an unknown order")
+    {
+        for (const auto& [args, phrase] :
+             {std::pair<std::string, std::string>{"--backend gl --segment exact",
+                                                  "--segment exact runs only in the emulation"},
+              {"--order painter", "--order must be centroid or mpvonc"}}) {
             const std::string out = tmp.file("never.npy");
             const CommandResult r = run_uvr(scene + "--algo vicp " + args + " --out '" + out + "'");
             INFO(args << ": " << r.err);

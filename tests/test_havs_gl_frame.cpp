@@ -6,60 +6,33 @@
 #include <sstream>
 
 #include "gpu/gl_havs.h"
+#include "gl_frames.h"
 #include "havs_scenes.h"
 #include "image_errors.h"
 #include "reference/reference_renderer.h"
 
 using namespace uvr;
 using namespace uvr::gpu;
+using test::FrameDiff;
+using test::osmesa;
 using test::Scene;
 
 namespace {
 
-// One GL context for the whole program (creating one costs ~50 ms; they are independent of the scene).
-GlContext& osmesa()
-{
-    static GlContext ctx(GlPlatform::osmesa);
-    ctx.make_current();
-    return ctx;
-}
-
-struct FrameDiff {
-    std::size_t pixels = 0, differing = 0, coverage_differs = 0, diagnostics_differ = 0;
-    std::string first;  // the first differing pixel, for INFO
-};
-
-bool same_bits(const float* a, const float* b) { return std::memcmp(a, b, 4 * sizeof(float)) == 0; }
-
 FrameDiff diff(const HavsFrame& gl, const HavsFrame& emu)
 {
-    FrameDiff d;
-    const Image& a = gl.image;
-    const Image& b = emu.image;
-    d.pixels = std::size_t(a.width) * std::size_t(a.height);
     const bool diagnostics = !gl.fragments.empty();
-    for (int y = 0; y < a.height; ++y)
-        for (int x = 0; x < a.width; ++x) {
-            const std::size_t p = std::size_t(y) * std::size_t(a.width) + std::size_t(x);
-            const float* pa = &a.rgba[4 * p];
-            const float* pb = &b.rgba[4 * p];
-            if (!same_bits(pa, pb)) {
-                if (d.differing++ == 0) {
-                    std::ostringstream s;
-                    s.precision(9);
-                    s << "pixel (" << x << ", " << y << "): GL " << pa[0] << " " << pa[1] << " " << pa[2] << " "
-                      << pa[3] << ", emulation " << pb[0] << " " << pb[1] << " " << pb[2] << " " << pb[3];
-                    if (diagnostics)
-                        s << "; fragments GL " << gl.fragments[p] << ", emulation " << emu.fragments[p];
-                    d.first = s.str();
-                }
-            }
-            if ((pa[3] > 0.0f) != (pb[3] > 0.0f)) ++d.coverage_differs;
-            if (diagnostics && (gl.fragments[p] != emu.fragments[p] || gl.max_held[p] != emu.max_held[p] ||
-                                gl.ordering_errors[p] != emu.ordering_errors[p]))
-                ++d.diagnostics_differ;
-        }
-    return d;
+    return test::diff_frames(
+        gl.image, emu.image,
+        [&](std::size_t p) {
+            return diagnostics && (gl.fragments[p] != emu.fragments[p] || gl.max_held[p] != emu.max_held[p] ||
+                                   gl.ordering_errors[p] != emu.ordering_errors[p]);
+        },
+        [&](std::size_t p) {
+            return diagnostics ? "; fragments GL " + std::to_string(gl.fragments[p]) + ", emulation " +
+                                     std::to_string(emu.fragments[p])
+                               : std::string();
+        });
 }
 
 // Renders `cam` with both backends at every k of `ks` and requires bit identity.

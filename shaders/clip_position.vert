@@ -1,0 +1,20 @@
+// The vertex stage's position, shared by HAVS (havs_vertex.vert) and VICP (vicp.vert): the GLSL twin of
+// gpu/havs_vertex.cpp clip_position. World position to clip coordinates with the model-view-projection matrix the
+// CPU built in double and rounded to float once; each row as ((m0 * x + m1 * y) + m2 * z) + m3, every result
+// `precise` so that no compiler fuses or reorders it. What the rasterizer does next (the draw module's viewport
+// transform, snapping) is emulated in gpu/rasterize.cpp.
+
+// mvp is column-major, as Mat4f: mvp[c][r] is column c, row r.
+float clip_row(mat4 mvp, vec3 p, int r)
+{
+    precise float acc = mvp[0][r] * p.x;
+    acc = acc + mvp[1][r] * p.y;
+    acc = acc + mvp[2][r] * p.z;
+    acc = acc + mvp[3][r];
+    return acc;
+}
+
+vec4 clip_position(mat4 mvp, vec3 p)
+{
+    return vec4(clip_row(mvp, p, 0), clip_row(mvp, p, 1), clip_row(mvp, p, 2), clip_row(mvp, p, 3));
+}

@@ -1,0 +1,27 @@
+// VICP's draw (gpu/gl_vicp.cpp): the fragment program's main. preintegration_table.frag, vicp_tet.glsl and
+// vicp_fragment.frag are compiled in front of this file; vicp.vert is its vertex side.
+//
+// Front-to-back compositing reads the framebuffer colour in the shader (GL_EXT_shader_framebuffer_fetch, coherent:
+// each fragment sees what the previous one on its pixel wrote, in primitive order, the cells' order), as HAVS's
+// k-buffer does (shaders/havs.frag); the seed blends back to front in fixed function, which a front-to-back order
+// and the opacity kill cannot use (docs/vicp.md, "Compositing"). Back faces are culled by the rasterizer
+// (glCullFace(GL_BACK)): each pixel sees a cell once, through the face its ray enters by.
+
+flat in VicpTet vicp_tet;
+
+layout(location = 0) inout vec4 vicp_color;
+layout(location = 1) inout vec4 vicp_diagnostics;  // VicpDiagnostics as floats (vicp_composite)
+
+vec4 vicp_shade(float u_front, float u_back, float t_z, float seg_length)
+{
+    return preintegration_lookup(u_front, u_back, t_z);
+}
+
+void main()
+{
+    VicpSegment seg = vicp_fragment_values(vicp_tet, ivec2(gl_FragCoord.xy));
+    vec4 fb = vicp_color, diag = vicp_diagnostics;
+    if (!vicp_composite(seg, fb, diag)) discard;
+    vicp_color = fb;
+    vicp_diagnostics = diag;
+}

@@ -1,0 +1,47 @@
+// VICP's draw (gpu/gl_vicp.cpp): the vertex program's main. clip_position.vert, vicp_tet.glsl and vicp_vertex.vert
+// are compiled in front of this file; vicp.frag is its fragment side.
+//
+// glDrawArrays(GL_TRIANGLES, 0, 12 * cells) with no vertex attributes: vertex gl_VertexID is corner (gl_VertexID % 12)
+// of cell gl_VertexID / 12 of the draw's part of ProjectTet's stream, corner 3f + j being vertex kVicpCorner[f][j]
+// of face f (gpu/vicp_vertex.h), so the four faces leave in the emulation's order. Each vertex computes its cell's
+// constants (the emulation computes them once a cell: the same operations on the same inputs give the same bits).
+
+// ProjectTet's stream (VicpCell: four point indices, positively oriented, and the boundary mask), sent per frame.
+layout(std430, binding = 0) readonly buffer VicpStream { uint vicp_stream[]; };
+// Resident: float positions relative to the mesh's centre (gl_Position, as HAVS), the same in double (the field's
+// cell), normalized scalars. Per frame: the snapped points (the drawn shape). Three values a point, packed.
+layout(std430, binding = 1) readonly buffer VicpPointsF { float vicp_points_f[]; };
+layout(std430, binding = 2) readonly buffer VicpPointsD { double vicp_points_d[]; };
+layout(std430, binding = 3) readonly buffer VicpScalars { double vicp_scalars[]; };
+layout(std430, binding = 4) readonly buffer VicpSnapped { double vicp_snapped[]; };
+
+uniform mat4 vicp_mvp;
+
+const int vicp_corner[12] = int[12](1, 2, 3, 0, 3, 2, 0, 1, 3, 0, 2, 1);  // kVicpCorner, face by face
+
+flat out VicpTet vicp_tet;
+
+dvec3 vicp_point(uint i, bool snapped)
+{
+    return snapped ? dvec3(vicp_snapped[3u * i], vicp_snapped[3u * i + 1u], vicp_snapped[3u * i + 2u])
+                   : dvec3(vicp_points_d[3u * i], vicp_points_d[3u * i + 1u], vicp_points_d[3u * i + 2u]);
+}
+
+void main()
+{
+    uint slot = uint(gl_VertexID / 12);
+    uint v[4] = uint[4](vicp_stream[5u * slot], vicp_stream[5u * slot + 1u], vicp_stream[5u * slot + 2u],
+                        vicp_stream[5u * slot + 3u]);
+    uint boundary = vicp_stream[5u * slot + 4u];
+    uint p = v[vicp_corner[gl_VertexID % 12]];
+    gl_Position = clip_position(vicp_mvp, vec3(vicp_points_f[3u * p], vicp_points_f[3u * p + 1u],
+                                               vicp_points_f[3u * p + 2u]));
+    dvec3 shape[4], exact[4];
+    double s[4];
+    for (int i = 0; i < 4; ++i) {
+        shape[i] = vicp_point(v[i], true);
+        exact[i] = vicp_point(v[i], false);
+        s[i] = vicp_scalars[v[i]];
+    }
+    vicp_tet = vicp_tet_constants(shape, exact, s, boundary);
+}
