@@ -69,7 +69,11 @@ nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos
     for (const auto& algo : algos) {
         if (algo == "reference") continue;
         const AlgoResult r = run_algorithm(s, algo, o);
-        add(algo, r, algo == "havs" ? "havs-" + o.backend + "-k" + std::to_string(o.k) : algo);
+        // The label names what sets the image apart: HAVS's backend and k, VICP's backend and cell order.
+        const std::string label = algo == "havs"   ? "havs-" + o.backend + "-k" + std::to_string(o.k)
+                                  : algo == "vicp" ? "vicp-" + o.backend + "-" + o.order
+                                                   : algo;
+        add(algo, r, label);
     }
     write_file_atomically(dir + "/metrics.json", m.dump(1) + "\n");
     write_compare_page(dir, m);

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# One command, one table (issue 9): uvr's algorithms and VTK 9's three unstructured-grid volume mappers on the same
-# mesh, transfer function, camera and size, in one run: milliseconds per frame (median), and each image's error against
-# uvr's reference measured the same way for all (SPEC §4 on the RGB colour over black, since VTK's images are 8-bit
-# RGB: RMSE, visible fraction, and the fraction of covered pixels left empty).
+# One command, one table (issue 9): uvr's algorithms (the reference; HAVS, and VICP in both cell orders, emulated and
+# on GL) and VTK 9's three unstructured-grid volume mappers on the same mesh, transfer function, camera and size, in
+# one run: milliseconds per frame (median), and each image's error against uvr's reference measured the same way for
+# all (SPEC §4 on the RGB colour over black, since VTK's images are 8-bit RGB: RMSE, visible fraction, and the
+# fraction of covered pixels left empty).
 #   bash bench/peers/peer_table.sh MESH [scene options...]     e.g.
 #   bash bench/peers/peer_table.sh ../shared/data/vtk-data/bluntfinxyz.bin --q ../shared/data/vtk-data/bluntfinq.bin
 # Environment: K (HAVS k, default 6), GL (osmesa | egl, default osmesa), REPEAT (default 5), KEEP (a directory to keep
@@ -15,10 +16,13 @@ gl=${GL:-osmesa}
 repeat=${REPEAT:-5}
 if [ -n "${KEEP:-}" ]; then dir=$KEEP; mkdir -p "$dir"; else dir=$(mktemp -d); trap 'rm -rf "$dir"' EXIT; fi
 "$uvr" export "$@" --out "$dir/scene" >/dev/null
-"$uvr" compare "$@" --algos reference,havs --k "$k" --no-cache --report "$dir/emu" --json > "$dir/emu.json"
-"$uvr" compare "$@" --algos havs --backend gl --gl "$gl" --k "$k" --report "$dir/gl" --json > "$dir/gl.json"
-"$uvr" bench "$@" --algos reference,havs --backend emu,gl --gl "$gl" --k "$k" --repeat "$repeat" --json \
-  > "$dir/bench.json"
+"$uvr" compare "$@" --algos reference,havs,vicp --k "$k" --no-cache --report "$dir/emu" --json > "$dir/emu.json"
+"$uvr" compare "$@" --algos havs,vicp --backend gl --gl "$gl" --k "$k" --report "$dir/gl" --json > "$dir/gl.json"
+"$uvr" compare "$@" --algos vicp --order centroid --k "$k" --report "$dir/emu" --json > "$dir/emu-centroid.json"
+"$uvr" compare "$@" --algos vicp --order centroid --backend gl --gl "$gl" --report "$dir/gl" --json \
+  > "$dir/gl-centroid.json"
+"$uvr" bench "$@" --algos reference,havs,vicp --backend emu,gl --gl "$gl" --k "$k" --orders mpvonc,centroid \
+  --repeat "$repeat" --json > "$dir/bench.json"
 mkdir -p "$dir/vtk"
 xvfb-run -a /usr/bin/python3 "$here/bench/peers/vtk_peers.py" "$dir/scene" --reference "$dir/emu/reference.npy" \
   --mappers raycast,pt,zsweep --repeat "$repeat" --save "$dir/vtk" > "$dir/vtk.json"
@@ -42,8 +46,12 @@ rows = []
 for r in b["results"]:
     if r["algo"] == "reference":
         img, name = ref, "uvr reference (exact, CPU)"
+    elif r["algo"] == "vicp":
+        sub = r["backend"]
+        img = np.load(f"{d}/{sub}/vicp-{sub}-{r['order']}.npy")
+        name = f"uvr VICP {r['order']}, " + ("emulated" if sub == "emu" else f"GL ({gl})")
     else:
-        sub = "emu" if r["backend"] == "emu" else "gl"
+        sub = r["backend"]
         img = np.load(f"{d}/{sub}/havs-{sub}-k{k}.npy")
         name = f"uvr HAVS k={k}, " + ("emulated" if sub == "emu" else f"GL ({gl})")
     rows.append((name, r["frame_ms"], *rgb_errors(img[:, :, :3])))
