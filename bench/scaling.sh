@@ -20,13 +20,14 @@ for n in $sizes; do
     echo "generating builtin:torus-$n" >&2
     "$uvr" export "builtin:torus-$n" --out "$d" >/dev/null
   fi
-  for path in "reference emu" "havs emu" "havs gl"; do
+  # VICP with its default order, MPVONC (the heavier of the two to build).
+  for path in "reference emu" "havs emu" "havs gl" "vicp emu" "vicp gl"; do
     set -- $path
     f="$d/bench-$1-$2.json"
     [ -s "$f" ] && continue
     echo "torus-$n: $1 $2" >&2
     "$uvr" bench "$d/mesh.vtk" --tf "$d/tf.json" --camera "$d/camera.json" --size 512x512 --algos "$1" \
-      --backend "$2" --repeat "$repeat" --json > "$f.part" && mv "$f.part" "$f"
+      --backend "$2" --orders mpvonc --repeat "$repeat" --json > "$f.part" && mv "$f.part" "$f"
   done
 done
 /usr/bin/python3 "$here/bench/plots/scaling_plots.py" "$out"

@@ -29,7 +29,12 @@ def main():
         with open(f) as fh:
             b = json.load(fh)
         r = b["results"][0]
-        name = "reference" if r["algo"] == "reference" else f"HAVS k={r['k']} {r['backend']}"
+        if r["algo"] == "reference":
+            name = "reference"
+        elif r["algo"] == "vicp":
+            name = f"VICP {r['order']} {r['backend']}"
+        else:
+            name = f"HAVS k={r['k']} {r['backend']}"
         runs.setdefault(name, []).append((b["tetrahedra"], r["frame_ms"], b["bytes_per_tet"], b["peak_rss_mib"]))
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.5), dpi=110)
     print("| path | tetrahedra | ms/frame | peak MiB | bytes per tetrahedron |")
