@@ -129,11 +129,12 @@ void mpvonc_cell_order(const TetMesh& mesh, const MeshTopology& topo, const Cell
     tbb::parallel_for(std::size_t(0), nf, [&](std::size_t i) {
         const Face& f = topo.faces[i];
         if (f.boundary()) return;
-        const glm::dvec3 a = mesh.points[f.v[0]], b = mesh.points[f.v[1]], c = mesh.points[f.v[2]];
+        const auto point = [&](uint32_t v) { return fr.snapped ? (*fr.snapped)[v] : mesh.points[v] - fr.origin; };
+        const glm::dvec3 a = point(f.v[0]), b = point(f.v[1]), c = point(f.v[2]);
         const glm::dvec3 n = glm::cross(b - a, c - a);
         // The eye's side: perspective, the sign of n . (eye - a); orthographic, the eye is at infinity behind the
         // image plane, in direction -forward.
-        const double side = cam.orthographic ? -glm::dot(n, cf.f) : glm::dot(n, cam.eye - a);
+        const double side = cam.orthographic ? -glm::dot(n, cf.f) : glm::dot(n, (cam.eye - fr.origin) - a);
         dir[i] = side > 0.0 ? int8_t(-1) : side < 0.0 ? int8_t(1) : int8_t(0);
     });
     std::vector<uint32_t> indegree(nt, 0);

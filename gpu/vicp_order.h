@@ -5,7 +5,7 @@
 //     sort of HAVS's faces (gpu/face_sort). Approximate: a large cell can be drawn after a small one in front of it.
 //   - mpvonc: Williams' meshed-polyhedra visibility ordering (MPVO, 1992) with the non-convex extension of Silva,
 //     Mitchell and Williams (XMPVO, 1998). Every internal face orders its two cells: the one on the eye's side of the
-//     face's plane comes first. A non-convex mesh also has cells that hide each other across a gap of empty space,
+//     face's plane (as the fragment program has it: through the snapped points) comes first. A non-convex mesh also has cells that hide each other across a gap of empty space,
 //     which no shared face relates; XMPVO finds those relations along the rays: the boundary faces are projected at
 //     the image's pixels, and along each pixel's ray the cell behind an exit face comes before the cell behind the
 //     next entry face. The union is topologically sorted (Kahn's algorithm, first in first out, seeded in cell
@@ -52,6 +52,10 @@ struct CellOrderFrame {
     glm::dvec3 origin{0.0};  // the frame the rays of fc are in (the mesh's centre)
     const VicpFrameConstants* fc = nullptr;
     const std::vector<WindowCoord>* win = nullptr;
+    // Where the fragment program has the interior faces (the snapped points, relative to origin; vicp_fragment.h,
+    // "Snapping"): each internal face orders its cells by the side of that plane the eye is on, so that the order
+    // agrees with the segments drawn. Null: the mesh's own points.
+    const std::vector<glm::dvec3>* snapped = nullptr;
     int width = 0, height = 0;
 };
 

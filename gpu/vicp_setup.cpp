@@ -152,7 +152,7 @@ VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& cam, int width
     if (vm.options().order == CellOrder::centroid) {
         fs.order = std::move(centroid);
     } else {
-        const CellOrderFrame frame{&cam, vm.origin(), &fc, &fs.win, width, height};
+        const CellOrderFrame frame{&cam, vm.origin(), &fc, &fs.win, &fs.snapped, width, height};
         mpvonc_cell_order(mesh, vm.topology(), frame, centroid, fs.order, fs.order_stats);
     }
     fs.sort_ms = ms_since(t0);
