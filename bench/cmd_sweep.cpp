@@ -17,6 +17,7 @@
 #include "bench/commands.h"
 #include "bench/progress.h"
 #include "bench/report.h"
+#include "gpu/gl_havs.h"
 #include "reference/error.h"
 #include "reference/error_measures.h"
 #include "reference/io_util.h"
@@ -96,6 +97,17 @@ void register_sweep(CLI::App& app)
         if (ks.empty()) throw InputError("", "--k is empty");
         const std::vector<int> table_sizes = parse_int_list("--table-sizes", a->table_sizes, 2, 1024);
         havs_options(a->algo_options);  // reject bad options before any work
+        if (a->algo_options.backend == "gl") {
+            // The table runs of every k go to GL: a k its draw buffers cannot hold is refused now, not after the
+            // smaller ones have run.
+            const gpu::GlContext ctx(gpu::parse_gl_platform(a->algo_options.gl));
+            const int kmax = gpu::GlHavsRenderer::max_k(ctx.info(), false);
+            if (*std::max_element(ks.begin(), ks.end()) > kmax)
+                throw InputError("", "--k must be between 1 and " + std::to_string(kmax) + " with --backend gl on " +
+                                         ctx.info().renderer + " (" + std::to_string(ctx.info().max_draw_buffers) +
+                                         " draw buffers); the list has " +
+                                         std::to_string(*std::max_element(ks.begin(), ks.end())));
+        }
         const std::string dir = a->report, runs = dir + "/runs";
         std::error_code ec;
         std::filesystem::create_directories(runs, ec);

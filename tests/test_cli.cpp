@@ -298,6 +298,15 @@ TEST_CASE("uvr render --algo havs --backend gl writes the emulation's image and 
             CHECK(!std::filesystem::exists(out));
         }
     }
+    SECTION("a sweep on GL refuses a k its draw buffers cannot hold before running any")
+    {
+        const CommandResult r = run_uvr("sweep builtin:torus-small --size 32x32 --backend gl --k 2,16 --report '" +
+                                        tmp.file("sweep") + "'");
+        INFO(r.err);
+        CHECK(r.exit_code == 1);
+        CHECK(r.err.find("--k must be between 1 and 14") != std::string::npos);
+        CHECK(!std::filesystem::exists(tmp.file("sweep")));
+    }
 }
 
 TEST_CASE("no GL context: --backend gl fails with a clear error and writes nothing, never crashes")
