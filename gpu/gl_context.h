@@ -92,7 +92,8 @@ GlPlatform parse_gl_platform(const std::string& name);        // throws InputErr
     X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                                                        \
     X(PFNGLUNIFORM3DPROC, Uniform3d)                                                                                \
     X(PFNGLCULLFACEPROC, CullFace)                                                                                  \
-    X(PFNGLFRONTFACEPROC, FrontFace)
+    X(PFNGLFRONTFACEPROC, FrontFace)                                                                                \
+    X(PFNGLPROVOKINGVERTEXPROC, ProvokingVertex)
 
 struct GlFunctions {
 #define UVR_GL_MEMBER(type, name) type name = nullptr;

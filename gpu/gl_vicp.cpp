@@ -148,6 +148,7 @@ VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
     gl.Enable(GL_CULL_FACE);
     gl.CullFace(GL_BACK);
     gl.FrontFace(GL_CCW);
+    gl.ProvokingVertex(GL_LAST_VERTEX_CONVENTION);  // the vertex that computes the flat constants (vicp.vert)
     const float zero[4] = {0, 0, 0, 0};
     gl.ClearBufferfv(GL_COLOR, 0, zero);
     gl.ClearBufferfv(GL_COLOR, 1, zero);

@@ -3,8 +3,13 @@
 //
 // glDrawArrays(GL_TRIANGLES, 0, 12 * cells) with no vertex attributes: vertex gl_VertexID is corner (gl_VertexID % 12)
 // of cell gl_VertexID / 12 of the draw's part of ProjectTet's stream, corner 3f + j being vertex kVicpCorner[f][j]
-// of face f (gpu/vicp_vertex.h), so the four faces leave in the emulation's order. Each vertex computes its cell's
-// constants (the emulation computes them once a cell: the same operations on the same inputs give the same bits).
+// of face f (gpu/vicp_vertex.h), so the four faces leave in the emulation's order.
+//
+// The constants are flat: the fragments see the provoking vertex's, which is each triangle's last (GL's default
+// GL_LAST_VERTEX_CONVENTION; gpu/gl_vicp.cpp sets it). Only that vertex computes them, 4 of a cell's 12 (the
+// emulation computes them once a cell: the same operations on the same inputs give the same bits); the others pass
+// zeros, which no fragment reads. llvmpipe shades vertices on one thread, in double: at 10 million cells this is
+// most of the frame (docs/vicp.md).
 
 // ProjectTet's stream (VicpCell: four point indices, positively oriented, and the boundary mask), sent per frame.
 layout(std430, binding = 0) readonly buffer VicpStream { uint vicp_stream[]; };
@@ -36,6 +41,11 @@ void main()
     uint p = v[vicp_corner[gl_VertexID % 12]];
     gl_Position = clip_position(vicp_mvp, vec3(vicp_points_f[3u * p], vicp_points_f[3u * p + 1u],
                                                vicp_points_f[3u * p + 2u]));
+    if (gl_VertexID % 3 != 2) {
+        vicp_tet = VicpTet(dvec3(0.0lf), dvec3[3](dvec3(0.0lf), dvec3(0.0lf), dvec3(0.0lf)), 0.0lf, dvec3(0.0lf),
+                           dvec3[3](dvec3(0.0lf), dvec3(0.0lf), dvec3(0.0lf)), dvec3(0.0lf), 0.0lf, 0u);
+        return;
+    }
     dvec3 shape[4], exact[4];
     double s[4];
     for (int i = 0; i < 4; ++i) {
