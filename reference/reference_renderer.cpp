@@ -9,14 +9,18 @@
 
 namespace uvr {
 
-Image render_reference(const RayIntegrator& integrator, const Camera& camera, int width, int height,
-                       ReferenceStats& stats, const std::function<void(double)>& progress)
+namespace {
+
+// One ray per pixel through `integrator` (RayIntegrator or VolumeIntegrator: integrate(Ray, RayStats&)).
+template <class Integrator>
+Image render_rays(const Integrator& integrator, const Camera& camera, int width, int height, ReferenceStats& stats,
+                  const std::function<void(double)>& progress)
 {
     const auto t0 = std::chrono::steady_clock::now();
     Image img(width, height);
     std::atomic<uint64_t> segments{0}, entries{0}, failures{0}, done{0};
     std::mutex progress_mutex;
-    // 16x16 tiles keep neighbouring rays (which walk the same tetrahedra) on one thread.
+    // 16x16 tiles keep neighbouring rays (which walk the same cells) on one thread.
     tbb::parallel_for(tbb::blocked_range2d<int>(0, height, 16, 0, width, 16), [&](const tbb::blocked_range2d<int>& r) {
         RayStats rs;
         for (int j = r.rows().begin(); j < r.rows().end(); ++j)
@@ -40,6 +44,20 @@ Image render_reference(const RayIntegrator& integrator, const Camera& camera, in
     stats.failures = failures;
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return img;
+}
+
+}  // namespace
+
+Image render_reference(const RayIntegrator& integrator, const Camera& camera, int width, int height,
+                       ReferenceStats& stats, const std::function<void(double)>& progress)
+{
+    return render_rays(integrator, camera, width, height, stats, progress);
+}
+
+Image render_reference(const VolumeIntegrator& integrator, const Camera& camera, int width, int height,
+                       ReferenceStats& stats, const std::function<void(double)>& progress)
+{
+    return render_rays(integrator, camera, width, height, stats, progress);
 }
 
 }  // namespace uvr

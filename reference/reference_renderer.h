@@ -8,6 +8,7 @@
 #include "reference/camera.h"
 #include "reference/image.h"
 #include "reference/ray_integrator.h"
+#include "reference/volume_integrator.h"
 
 namespace uvr {
 
@@ -22,6 +23,9 @@ struct ReferenceStats {
 // Every pixel is computed independently in double and rounded to float once, so the image does not depend on the
 // number of threads. `progress` (may be empty) is called with the fraction done, from one thread at a time.
 Image render_reference(const RayIntegrator& integrator, const Camera& camera, int width, int height,
+                       ReferenceStats& stats, const std::function<void(double)>& progress = {});
+// The same for a regular grid (stats.failures stays 0: the grid walk has no guard to trip).
+Image render_reference(const VolumeIntegrator& integrator, const Camera& camera, int width, int height,
                        ReferenceStats& stats, const std::function<void(double)>& progress = {});
 
 }  // namespace uvr
