@@ -68,8 +68,23 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// The regular-grid reference (reference/volume_integrator.h). Not cached: the cache's key is a mesh's.
+AlgoResult run_volume_reference(const Scene& s)
+{
+    AlgoResult r;
+    const VolumeIntegrator integrator(s.volume(), s.tf);
+    ProgressBar bar("reference");
+    ReferenceStats st;
+    r.image = render_reference(integrator, s.camera, s.width, s.height, st, [&](double f) { bar.update(f); });
+    bar.finish();
+    r.ms = st.seconds * 1000.0;
+    r.stats = {{"cached", false}, {"rays", st.rays}, {"cell_pieces", st.segments}, {"entries", st.entries}};
+    return r;
+}
+
 AlgoResult run_reference(const Scene& s, bool use_cache)
 {
+    if (s.is_volume()) return run_volume_reference(s);
     AlgoResult r;
     const std::string key = reference_cache_key(s.mesh(), s.field, s.tf, s.camera, s.width, s.height);
     if (use_cache) {

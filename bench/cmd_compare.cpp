@@ -37,13 +37,15 @@ nlohmann::json measures_json(const ErrorMeasures& e)
 nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos, const AlgoOptions& o,
                            const std::string& dir, const std::string& mesh_name)
 {
+    for (const auto& algo : algos)
+        if (algo != "reference") s.mesh();  // a regular grid takes only the reference so far: refused before any output
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) throw InputError(dir, "cannot create the report directory: " + ec.message());
     const AlgoResult ref = run_algorithm(s, "reference", o);
     nlohmann::json m;
     m["mesh"] = mesh_name;
-    m["field"] = s.mesh().fields[s.field].name;
+    m["field"] = s.field_name();
     m["width"] = s.width;
     m["height"] = s.height;
     m["results"] = nlohmann::json::array();

@@ -108,17 +108,18 @@ void register_sweep(CLI::App& app)
                                          " draw buffers); the list has " +
                                          std::to_string(*std::max_element(ks.begin(), ks.end())));
         }
+        Scene s = setup_scene(a->scene);
+        s.mesh();  // a regular grid is refused here, before the report directory exists
         const std::string dir = a->report, runs = dir + "/runs";
         std::error_code ec;
         std::filesystem::create_directories(runs, ec);
         if (ec) throw InputError(dir, "cannot create the report directory: " + ec.message());
 
-        Scene s = setup_scene(a->scene);
         const Camera scene_camera = s.camera;
         const auto views = sweep_views(a->views);
         nlohmann::json out;
         out["mesh"] = a->scene.input.path;
-        out["field"] = s.mesh().fields[s.field].name;
+        out["field"] = s.field_name();
         out["width"] = s.width;
         out["height"] = s.height;
         out["k"] = ks;

@@ -18,18 +18,36 @@ void add_scene_options(CLI::App& cmd, SceneOptions& o)
     cmd.add_option("--size", o.size, "Image size WxH")->capture_default_str();
 }
 
+const TetMesh& Scene::mesh() const
+{
+    if (!data.mesh)
+        throw InputError(data.volume->source, "is a regular grid: this takes a tetrahedral mesh (on volumes, "
+                                              "`render` and `compare` with --algo reference; the ray caster is issue 7)");
+    return *data.mesh;
+}
+
+std::string Scene::field_name() const { return data.mesh ? data.mesh->fields[field].name : data.volume->name; }
+
 Scene setup_scene(const SceneOptions& o)
 {
     Scene s;
     parse_size(o.size, s.width, s.height);
     s.data = load_input(o.input);
     print_warnings(s.data);
-    if (!s.data.mesh)
-        throw InputError(o.input.path, "is a regular grid; rendering volumes arrives with the ray caster (issue 7)");
-    const TetMesh& mesh = *s.data.mesh;
-    s.field = find_field(mesh, o.input.field);
-    const Bounds b = mesh_bounds(mesh);
-    s.tf = o.tf_path.empty() ? default_transfer_function(field_range(mesh.fields[s.field]), glm::length(b.extent()))
+    Bounds b;
+    Range range;
+    if (s.data.mesh) {
+        const TetMesh& mesh = *s.data.mesh;
+        s.field = find_field(mesh, o.input.field);
+        b = mesh_bounds(mesh);
+        range = field_range(mesh.fields[s.field]);
+    } else {
+        if (!o.input.field.empty())
+            throw InputError(o.input.path, "is a regular grid with one scalar; --field is for meshes");
+        b = volume_bounds(*s.data.volume);
+        range = volume_range(*s.data.volume);
+    }
+    s.tf = o.tf_path.empty() ? default_transfer_function(range, glm::length(b.extent()))
                              : load_transfer_function(o.tf_path);
     if (!o.camera_path.empty() && !o.view.empty())
         throw InputError("", "give either --camera or --view, not both");
@@ -42,7 +60,7 @@ Scene setup_scene(const SceneOptions& o)
             throw InputError("", "--view must be AZIMUTH,ELEVATION in degrees, found '" + o.view + "'");
         s.camera = default_camera(b, double(s.width) / double(s.height), az, el);
     }
-    s.topology = std::make_unique<MeshTopology>(build_topology(mesh));
+    if (s.data.mesh) s.topology = std::make_unique<MeshTopology>(build_topology(*s.data.mesh));
     return s;
 }
 

@@ -31,7 +31,11 @@ struct Scene {
     Camera camera;
     int width = 0, height = 0;
     std::unique_ptr<MeshTopology> topology;  // meshes only
-    const TetMesh& mesh() const { return *data.mesh; }
+    bool is_volume() const { return data.volume.has_value(); }
+    // The tetrahedral mesh; throws InputError for a regular grid (what needs a mesh refuses a volume cleanly).
+    const TetMesh& mesh() const;
+    const Volume& volume() const { return *data.volume; }  // is_volume() only
+    std::string field_name() const;
 };
 
 // Loads and validates everything; throws InputError for anything wrong (a --camera and a --view together, say).

@@ -1,5 +1,6 @@
 // The `uvr` program as a user meets it: help, `info --json` on the real data, errors and exit codes.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include <nlohmann/json.hpp>
@@ -336,4 +337,37 @@ TEST_CASE("no GL context: --backend gl fails with a clear error and writes nothi
         CHECK_THAT(r.err, Catch::Contains("GALLIUM_DRIVER=nonexistent"));
     }
     CHECK(!std::filesystem::exists(out));
+}
+
+TEST_CASE("uvr render --algo reference renders a regular grid; what needs a mesh refuses one before writing")
+{
+    TempDir tmp("cli-volume");
+    const std::string volume = "'" + data_path("vtk-data/hydrogen.vti") + "' --size 48x40 ";
+    SECTION("the trilinear reference: finite, not empty")
+    {
+        const CommandResult r = run_uvr("render " + volume + "--algo reference --json --out '" + tmp.file("h.npy") + "'");
+        INFO(r.err);
+        REQUIRE(r.exit_code == 0);
+        const uvr::Image img = uvr::read_npy(tmp.file("h.npy"));
+        std::size_t covered = 0, nonfinite = 0;
+        for (std::size_t p = 0; p < img.rgba.size(); ++p) nonfinite += std::isfinite(img.rgba[p]) ? 0 : 1;
+        for (std::size_t p = 3; p < img.rgba.size(); p += 4) covered += img.rgba[p] > 0.01f ? 1 : 0;
+        CHECK(nonfinite == 0);
+        CHECK(covered > 100);
+        CHECK(nlohmann::json::parse(r.out)["cell_pieces"].get<uint64_t>() > 1000);
+    }
+    SECTION("HAVS, a compare with HAVS, a sweep: refused, nothing written")
+    {
+        for (const std::string& cmd :
+             {"render " + volume + "--algo havs --out '" + tmp.file("never.npy") + "'",
+              "compare " + volume + "--algos reference,havs --report '" + tmp.file("never") + "'",
+              "sweep " + volume + "--k 1,2 --report '" + tmp.file("never") + "'"}) {
+            const CommandResult r = run_uvr(cmd);
+            INFO(cmd << ": " << r.err);
+            CHECK(r.exit_code == 1);
+            CHECK(r.err.find("is a regular grid") != std::string::npos);
+            CHECK(!std::filesystem::exists(tmp.file("never.npy")));
+            CHECK(!std::filesystem::exists(tmp.file("never")));
+        }
+    }
 }
