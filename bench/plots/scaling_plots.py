@@ -47,7 +47,8 @@ def main():
         s_time = slope(xs, [p[1] for p in pts]) if len(pts) > 1 else float("nan")
         tail = pts[-3:]
         s_tail = slope([p[0] for p in tail], [p[1] for p in tail]) if len(tail) > 1 else float("nan")
-        a1.plot(xs, [p[1] for p in pts], marker="o", label=f"{name} (slope {s_time:.2f}; largest three {s_tail:.2f})")
+        label = f"{name} (slope {s_time:.2f}; largest three {s_tail:.2f})" if len(pts) > 1 else name
+        a1.plot(xs, [p[1] for p in pts], marker="o", label=label)
         a2.plot(xs, [p[2] for p in pts], marker="o", label=name)
         print(f"| {name}: slope of log(time) against log(count), all sizes / largest three | {s_time:.2f} / "
               f"{s_tail:.2f} | | | |")
