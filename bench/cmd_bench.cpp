@@ -1,6 +1,7 @@
 // `uvr bench MESH [--algos LIST]`: timings of each algorithm, each stage apart (SPEC §3). Medians over repetitions
 // after a warm-up; the JSON carries every repetition's figures and a description of the machine.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
@@ -68,9 +69,16 @@ nlohmann::json bench_reference(const Scene& s, const BenchArgs& a)
     ReferenceStats stats;
     for (int r = 0; r < a.warmup + a.repeat; ++r) {
         const auto t0 = Clock::now();
-        const RayIntegrator integrator(s.mesh(), *s.topology, s.field, s.tf);
-        const double setup = ms_since(t0);
-        const Image img = render_reference(integrator, s.camera, s.width, s.height, stats);
+        double setup = 0.0;
+        if (s.is_volume()) {  // the regular-grid reference (reference/volume_integrator.h)
+            const VolumeIntegrator integrator(s.volume(), s.tf);
+            setup = ms_since(t0);
+            render_reference(integrator, s.camera, s.width, s.height, stats);
+        } else {
+            const RayIntegrator integrator(s.mesh(), *s.topology, s.field, s.tf);
+            setup = ms_since(t0);
+            render_reference(integrator, s.camera, s.width, s.height, stats);
+        }
         if (stats.failures) throw InputError(s.mesh().source, "rays were abandoned by the walk's guards");
         if (r >= a.warmup) {
             setup_ms.push_back(setup);
@@ -242,9 +250,16 @@ void register_bench(CLI::App& app)
         const auto t0 = Clock::now();
         const Scene s = setup_scene(a->scene);
         const double load_ms = ms_since(t0);
+        for (const auto& x : algos)
+            if (x != "reference") s.mesh();  // a regular grid takes only the reference so far: refused before timing
+        // Per element: tetrahedra of a mesh, voxels (samples) of a regular grid.
+        const auto& dims = s.is_volume() ? s.volume().dims : std::array<int64_t, 3>{0, 0, 0};
+        const std::size_t elements =
+            s.is_volume() ? std::size_t(dims[0] * dims[1] * dims[2]) : s.mesh().tets.size();
+        const char* element = s.is_volume() ? "voxels" : "tetrahedra";
         nlohmann::json out;
         out["mesh"] = a->scene.input.path;
-        out["tetrahedra"] = s.mesh().tets.size();
+        out[element] = elements;
         out["width"] = s.width;
         out["height"] = s.height;
         out["load_ms"] = load_ms;
@@ -263,13 +278,13 @@ void register_bench(CLI::App& app)
             for (const auto& b : backends) out["results"].push_back(bench_havs(s, *a, b));
         }
         out["peak_rss_mib"] = peak_rss_mib();
-        out["bytes_per_tet"] = peak_rss_mib() * 1024.0 * 1024.0 / double(s.mesh().tets.size());
+        out[s.is_volume() ? "bytes_per_voxel" : "bytes_per_tet"] = peak_rss_mib() * 1024.0 * 1024.0 / double(elements);
         if (a->json) {
             std::printf("%s\n", out.dump(1).c_str());
             return;
         }
-        std::printf("%s: %zu tetrahedra, %dx%d, %s (%u threads)\n", a->scene.input.path.c_str(), s.mesh().tets.size(),
-                    s.width, s.height, cpu_model().c_str(), std::thread::hardware_concurrency());
+        std::printf("%s: %zu %s, %dx%d, %s (%u threads)\n", a->scene.input.path.c_str(), elements, element, s.width,
+                    s.height, cpu_model().c_str(), std::thread::hardware_concurrency());
         for (const auto& r : out["results"]) {
             std::printf("  %-10s %-4s %9.1f ms/frame ", r["algo"].get<std::string>().c_str(),
                         r["backend"].get<std::string>().c_str(), r["frame_ms"].get<double>());
@@ -296,8 +311,9 @@ void register_bench(CLI::App& app)
                             r["stages"]["raster_and_fragment"].get<double>(), r["stages"]["flush"].get<double>(),
                             r["stages"]["readback"].get<double>(), r["build_ms"].get<double>());
         }
-        std::printf("  peak memory %.1f MiB (%.0f bytes per tetrahedron)\n", out["peak_rss_mib"].get<double>(),
-                    out["bytes_per_tet"].get<double>());
+        std::printf("  peak memory %.1f MiB (%.0f bytes per %s)\n", out["peak_rss_mib"].get<double>(),
+                    out[s.is_volume() ? "bytes_per_voxel" : "bytes_per_tet"].get<double>(),
+                    s.is_volume() ? "voxel" : "tetrahedron");
     });
 }
 

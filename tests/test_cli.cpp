@@ -356,6 +356,20 @@ TEST_CASE("uvr render --algo reference renders a regular grid; what needs a mesh
         CHECK(covered > 100);
         CHECK(nlohmann::json::parse(r.out)["cell_pieces"].get<uint64_t>() > 1000);
     }
+    SECTION("uvr bench times the grid reference; bench with HAVS refuses the grid")
+    {
+        const CommandResult r = run_uvr("bench " + volume + "--algos reference --repeat 1 --warmup 0 --json");
+        INFO(r.err);
+        REQUIRE(r.exit_code == 0);
+        const auto j = nlohmann::json::parse(r.out);
+        CHECK(j["voxels"].get<uint64_t>() > 1000);
+        CHECK(j["results"][0]["algo"] == "reference");
+        CHECK(j["results"][0]["frame_ms"].get<double>() > 0.0);
+        const CommandResult h = run_uvr("bench " + volume + "--algos reference,havs --repeat 1");
+        CHECK(h.exit_code == 1);
+        CHECK(h.err.find("is a regular grid") != std::string::npos);
+        CHECK(h.out.empty());
+    }
     SECTION("HAVS, a compare with HAVS, a sweep: refused, nothing written")
     {
         for (const std::string& cmd :
