@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -40,23 +41,18 @@ void store_havs_frame(const std::vector<glm::vec4>& colour, const std::vector<KB
         out.ordering_errors.resize(npix);
     }
     HavsStats& st = out.stats;
-    for (int y = 0; y < height; ++y)
-        for (int x = 0; x < width; ++x) {
-            const std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(x);
-            const int j = height - 1 - y;
-            float* px = out.image.pixel(x, j);
-            for (int c = 0; c < 4; ++c) px[c] = colour[p][c];
-            if (!diag) continue;
-            const KBufferDiagnostics& d = (*diag)[p];
-            const std::size_t q = std::size_t(j) * std::size_t(width) + std::size_t(x);
-            out.fragments[q] = d.fragments;
-            out.max_held[q] = d.max_held;
-            out.ordering_errors[q] = d.ordering_errors;
-            st.fragments += d.fragments;
-            st.ordering_errors += d.ordering_errors;
-            st.max_fragments = std::max(st.max_fragments, d.fragments);
-            st.max_held = std::max(st.max_held, d.max_held);
-        }
+    for_each_gl_pixel(width, height, [&](std::size_t p, std::size_t q) {
+        std::memcpy(&out.image.rgba[4 * q], &colour[p][0], 4 * sizeof(float));
+        if (!diag) return;
+        const KBufferDiagnostics& d = (*diag)[p];
+        out.fragments[q] = d.fragments;
+        out.max_held[q] = d.max_held;
+        out.ordering_errors[q] = d.ordering_errors;
+        st.fragments += d.fragments;
+        st.ordering_errors += d.ordering_errors;
+        st.max_fragments = std::max(st.max_fragments, d.fragments);
+        st.max_held = std::max(st.max_held, d.max_held);
+    });
 }
 
 HavsRenderer::HavsRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,

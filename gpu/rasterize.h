@@ -19,6 +19,7 @@
 // for a single 8-bit BGRA colour buffer without depth buffer; multisampling; scissor rectangles.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 namespace uvr::gpu {
@@ -99,6 +100,17 @@ void row_span(const TriangleSetup& s, int py, int& first, int& last);
 
 // GL row y (from the bottom) <-> SPEC §2 image row (from the top).
 inline int spec_row(int gl_row, int height) { return height - 1 - gl_row; }
+
+// Visits every pixel of a width x height frame read back from GL (rows from the bottom): f(gl_index, spec_index), the
+// second the same pixel's index in SPEC §2 order (rows from the top). The frame drivers store their frames with it.
+template <class F>
+void for_each_gl_pixel(int width, int height, F&& f)
+{
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            f(std::size_t(y) * std::size_t(width) + std::size_t(x),
+              std::size_t(spec_row(y, height)) * std::size_t(width) + std::size_t(x));
+}
 
 // The GL row of setup-space row py.
 inline int gl_row(int py, const Framebuffer& fb) { return fb.target == RenderTarget::window ? fb.height - 1 - py : py; }

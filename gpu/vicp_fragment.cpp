@@ -4,6 +4,21 @@
 
 namespace uvr::gpu {
 
+namespace {
+// The four barycentric coordinates along the ray q + t d (q relative to the tetrahedron's vertex 0), lambda_i(t) =
+// a[i] + t b[i], from the gradients m of lambda_1..3; lambda_0 = 1 - the others.
+void barycentrics_along(const glm::dvec3 m[3], double qx, double qy, double qz, double dx, double dy, double dz,
+                        double a[4], double b[4])
+{
+    for (int i = 0; i < 3; ++i) {
+        a[i + 1] = (m[i].x * qx + m[i].y * qy) + m[i].z * qz;
+        b[i + 1] = (m[i].x * dx + m[i].y * dy) + m[i].z * dz;
+    }
+    a[0] = 1.0 - ((a[1] + a[2]) + a[3]);
+    b[0] = 0.0 - ((b[1] + b[2]) + b[3]);
+}
+}  // namespace
+
 VicpSegment vicp_fragment_values(const VicpFrameConstants& fc, const VicpTet& tet, int pix_x, int pix_y)
 {
     const double ndc_x = (double(pix_x) + 0.5) * fc.two_over_width - 1.0;
@@ -15,26 +30,14 @@ VicpSegment vicp_fragment_values(const VicpFrameConstants& fc, const VicpTet& te
     const double dx = (fc.ray_d0.x + ndc_x * fc.ray_dx.x) + ndc_y * fc.ray_dy.x;
     const double dy = (fc.ray_d0.y + ndc_x * fc.ray_dx.y) + ndc_y * fc.ray_dy.y;
     const double dz = (fc.ray_d0.z + ndc_x * fc.ray_dx.z) + ndc_y * fc.ray_dy.z;
-    // lambda_i(t) = a[i] + t * b[i].
+    // lambda_i(t) = a[i] + t * b[i], from the snapped shape's gradients; the boundary faces' from the exact cell's (the
+    // ray relative to its vertex 0: o - base = q + (p0 - base)).
     double a[4], b[4];
-    for (int i = 0; i < 3; ++i) {
-        const glm::dvec3& m = tet.m[i];
-        a[i + 1] = (m.x * qx + m.y * qy) + m.z * qz;
-        b[i + 1] = (m.x * dx + m.y * dy) + m.z * dz;
-    }
-    a[0] = 1.0 - ((a[1] + a[2]) + a[3]);
-    b[0] = 0.0 - ((b[1] + b[2]) + b[3]);
-    // The boundary faces' from the exact cell (the ray relative to its vertex 0: o - base = q + (p0 - base)).
+    barycentrics_along(tet.m, qx, qy, qz, dx, dy, dz, a, b);
     const double bx = qx + (tet.p0.x - tet.base.x), by = qy + (tet.p0.y - tet.base.y), bz = qz + (tet.p0.z - tet.base.z);
     if (tet.boundary) {
         double ae[4], be[4];
-        for (int i = 0; i < 3; ++i) {
-            const glm::dvec3& m = tet.me[i];
-            ae[i + 1] = (m.x * bx + m.y * by) + m.z * bz;
-            be[i + 1] = (m.x * dx + m.y * dy) + m.z * dz;
-        }
-        ae[0] = 1.0 - ((ae[1] + ae[2]) + ae[3]);
-        be[0] = 0.0 - ((be[1] + be[2]) + be[3]);
+        barycentrics_along(tet.me, bx, by, bz, dx, dy, dz, ae, be);
         for (int i = 0; i < 4; ++i)
             if (tet.boundary & (1u << i)) a[i] = ae[i], b[i] = be[i];
     }

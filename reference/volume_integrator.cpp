@@ -133,22 +133,24 @@ glm::dvec4 VolumeIntegrator::integrate_cell(const glm::dvec3& o, const glm::dvec
         for (int deg = 0; deg < 4; ++deg) s[std::size_t(deg)] += p[std::size_t(deg)];
     }
     // Split points: the cubic's critical points, then where it crosses a breakpoint of the transfer function.
-    std::vector<double> cuts{0.0};
+    // The split points, in a buffer each thread keeps (integrate_cell runs once per cell a ray crosses).
+    thread_local std::vector<double> cuts;
+    cuts.assign(1, 0.0);
     {
         const double qa = 3.0 * s[3], qb = 2.0 * s[2], qc = s[1];
-        std::vector<double> crit;
+        const auto critical = [&](double u) {
+            if (u > 0.0 && u < L) cuts.push_back(u);
+        };
         if (qa != 0.0) {
             const double disc = qb * qb - 4.0 * qa * qc;
             if (disc >= 0.0) {
                 const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
-                if (q != 0.0) crit.push_back(qc / q);
-                crit.push_back(q / qa);
+                if (q != 0.0) critical(qc / q);
+                critical(q / qa);
             }
         } else if (qb != 0.0) {
-            crit.push_back(-qc / qb);
+            critical(-qc / qb);
         }
-        for (double u : crit)
-            if (u > 0.0 && u < L) cuts.push_back(u);
         cuts.push_back(L);
         std::sort(cuts.begin(), cuts.end());
         const std::size_t monotone = cuts.size();

@@ -29,6 +29,21 @@ struct VicpSegment {
 // The clamp to [0, 1] written as the emulation's ternaries (GLSL's clamp() leaves NaN handling open).
 double vicp_clamp01(double s) { return s < 0.0lf ? 0.0lf : s > 1.0lf ? 1.0lf : s; }
 
+// barycentrics_along of vicp_fragment.cpp: lambda_i(t) = a[i] + t b[i] along q + t d from the gradients m.
+void vicp_barycentrics_along(dvec3 m[3], dvec3 q, dvec3 d, out double a[4], out double b[4])
+{
+    for (int i = 0; i < 3; ++i) {
+        precise double ai = (m[i].x * q.x + m[i].y * q.y) + m[i].z * q.z;
+        precise double bi = (m[i].x * d.x + m[i].y * d.y) + m[i].z * d.z;
+        a[i + 1] = ai;
+        b[i + 1] = bi;
+    }
+    precise double a0 = 1.0lf - ((a[1] + a[2]) + a[3]);
+    precise double b0 = 0.0lf - ((b[1] + b[2]) + b[3]);
+    a[0] = a0;
+    b[0] = b0;
+}
+
 VicpSegment vicp_fragment_values(VicpTet tet, ivec2 pix)
 {
     precise double ndc_x = (double(pix.x) + 0.5lf) * vicp_two_over_width - 1.0lf;
@@ -40,34 +55,16 @@ VicpSegment vicp_fragment_values(VicpTet tet, ivec2 pix)
     precise double dx = (vicp_ray_d0.x + ndc_x * vicp_ray_dx.x) + ndc_y * vicp_ray_dy.x;
     precise double dy = (vicp_ray_d0.y + ndc_x * vicp_ray_dx.y) + ndc_y * vicp_ray_dy.y;
     precise double dz = (vicp_ray_d0.z + ndc_x * vicp_ray_dx.z) + ndc_y * vicp_ray_dy.z;
-    // lambda_i(t) = a[i] + t * b[i]. Arrays are indexed only by loop counters the compiler unrolls.
+    // lambda_i(t) = a[i] + t * b[i], from the snapped shape's gradients; the boundary faces' from the exact cell's.
+    // Arrays are indexed only by loop counters the compiler unrolls.
     double a[4], b[4];
-    for (int i = 0; i < 3; ++i) {
-        precise double ai = (tet.m[i].x * qx + tet.m[i].y * qy) + tet.m[i].z * qz;
-        precise double bi = (tet.m[i].x * dx + tet.m[i].y * dy) + tet.m[i].z * dz;
-        a[i + 1] = ai;
-        b[i + 1] = bi;
-    }
-    precise double a0 = 1.0lf - ((a[1] + a[2]) + a[3]);
-    precise double b0 = 0.0lf - ((b[1] + b[2]) + b[3]);
-    a[0] = a0;
-    b[0] = b0;
-    // The boundary faces' from the exact cell.
+    vicp_barycentrics_along(tet.m, dvec3(qx, qy, qz), dvec3(dx, dy, dz), a, b);
     precise double bx = qx + (tet.p0.x - tet.base.x);
     precise double by = qy + (tet.p0.y - tet.base.y);
     precise double bz = qz + (tet.p0.z - tet.base.z);
     if (tet.boundary != 0u) {
         double ae[4], be[4];
-        for (int i = 0; i < 3; ++i) {
-            precise double ai = (tet.me[i].x * bx + tet.me[i].y * by) + tet.me[i].z * bz;
-            precise double bi = (tet.me[i].x * dx + tet.me[i].y * dy) + tet.me[i].z * dz;
-            ae[i + 1] = ai;
-            be[i + 1] = bi;
-        }
-        precise double ae0 = 1.0lf - ((ae[1] + ae[2]) + ae[3]);
-        precise double be0 = 0.0lf - ((be[1] + be[2]) + be[3]);
-        ae[0] = ae0;
-        be[0] = be0;
+        vicp_barycentrics_along(tet.me, dvec3(bx, by, bz), dvec3(dx, dy, dz), ae, be);
         for (int i = 0; i < 4; ++i)
             if ((tet.boundary & (1u << uint(i))) != 0u) {
                 a[i] = ae[i];

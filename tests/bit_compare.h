@@ -1,5 +1,6 @@
 // Bit-for-bit comparison of an emulated stage's outputs with the GL stage's (SPEC §5), shared by the HAVS and VICP
-// stage tests: counts of differing bit patterns, the largest difference in ulps, the first few cases described.
+// stage tests: counts of differing bit patterns, the largest difference in ulps, the first few cases described; and
+// the small table both sample in a real 3D texture.
 #pragma once
 
 #include <algorithm>
@@ -11,6 +12,8 @@
 #include <string>
 
 #include <catch2/catch.hpp>
+
+#include "gpu/preintegration_table.h"
 
 namespace uvr::test {
 
@@ -60,5 +63,17 @@ struct Mismatches {
         CHECK(count == 0);
     }
 };
+
+// The pre-integrated table the stage tests sample in a real 3D texture: small (24 x 24 x 12 texels, segments up to 3)
+// so that a lookup lands between texels at every level, over the scalar range [0, 1], in the given texel format.
+inline gpu::PreintegrationTable stage_test_table(const SegmentIntegrator& integrator, gpu::TexelFormat format)
+{
+    gpu::PreintegrationConfig cfg;
+    cfg.scalar_resolution = 24;
+    cfg.length_resolution = 12;
+    cfg.max_length = 3.0;
+    cfg.format = format;
+    return gpu::PreintegrationTable(integrator, Range{0.0, 1.0}, cfg);
+}
 
 }  // namespace uvr::test

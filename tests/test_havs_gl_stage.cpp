@@ -382,12 +382,7 @@ TEST_CASE("havs_kbuffer in GLSL with the table in a real 3D texture computes the
     KBufferTally t;
     uint64_t seed = 100;
     for (TexelFormat format : {TexelFormat::f32, TexelFormat::u16, TexelFormat::u8}) {
-        PreintegrationConfig cfg;
-        cfg.scalar_resolution = 24;
-        cfg.length_resolution = 12;
-        cfg.max_length = 3.0;
-        cfg.format = format;
-        const PreintegrationTable table(integrator, Range{0.0, 1.0}, cfg);
+        const PreintegrationTable table = test::stage_test_table(integrator, format);
         HavsFrameConstants fc = kbuffer_frame(0.99f, 0.5f);
         fc.length_scale = table.length_scale();
         fc.length_bias = table.length_bias();
