@@ -1,10 +1,13 @@
 #include "bench/algorithms.h"
 
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 #include "bench/progress.h"
 #include "gpu/gl_havs.h"
+#include "gpu/gl_raycast.h"
 #include "gpu/gl_vicp.h"
 #include "reference/error.h"
 #include "reference/image_cache.h"
@@ -24,6 +27,11 @@ void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
     cmd.add_option("--table-size", o.table_size, "HAVS: pre-integration table texels per axis")->capture_default_str();
     cmd.add_option("--table-format", o.table_format, "HAVS: f32 | u16 | u8")->capture_default_str();
     cmd.add_flag("--no-cache", o.no_cache, "Do not read or write the reference image cache");
+    cmd.add_option("--step", o.step, "Ray caster: step in world units (default: half the smallest spacing)");
+    cmd.add_flag("--preintegrate", o.preintegrate, "Ray caster: pre-integrated segments between samples");
+    cmd.add_option("--light", o.light, "Ray caster: X,Y,Z of a point light (world coordinates): Blinn-Phong shading");
+    cmd.add_option("--volume-format", o.volume_format, "Ray caster: volume texture, native | f32 | u16 | u8")
+        ->capture_default_str();
 }
 
 gpu::HavsOptions havs_options(const AlgoOptions& a)
@@ -61,6 +69,39 @@ gpu::VicpOptions vicp_options(const AlgoOptions& a)
     o.threshold = ho.threshold;
     o.table_size = ho.table_size;
     o.table_format = ho.table_format;
+    return o;
+}
+
+gpu::RaycastOptions raycast_options(const AlgoOptions& a)
+{
+    // The table options mean what they mean for HAVS (the pre-integrated table); the threshold's default is 0.95.
+    AlgoOptions h = a;
+    if (h.threshold < 0.0) h.threshold = 0.95;
+    const gpu::HavsOptions ho = havs_options(h);
+    gpu::RaycastOptions o;
+    if (a.step < 0.0 || !std::isfinite(a.step)) throw InputError("", "--step must be positive (world units)");
+    o.step = a.step;
+    o.preintegrate = a.preintegrate;
+    if (ho.segment == gpu::SegmentMode::exact && !a.preintegrate)
+        throw InputError("", "--segment exact needs --preintegrate with --algo raycast (it integrates the segment "
+                             "between two samples)");
+    o.segment = ho.segment;
+    o.threshold = ho.threshold;
+    o.table_size = ho.table_size;
+    o.table_format = ho.table_format;
+    o.volume_format = gpu::parse_volume_format(a.volume_format);
+    if (!a.light.empty()) {
+        const std::vector<std::string> xyz = split_list(a.light);
+        gpu::RaycastLight light;
+        bool ok = xyz.size() == 3;
+        for (int i = 0; ok && i < 3; ++i) {
+            char* end = nullptr;
+            light.position[i] = std::strtod(xyz[std::size_t(i)].c_str(), &end);
+            ok = end && *end == '\0' && std::isfinite(light.position[i]);
+        }
+        if (!ok) throw InputError("", "--light must be X,Y,Z (three finite numbers), not '" + a.light + "'");
+        o.light = light;
+    }
     return o;
 }
 
@@ -194,21 +235,70 @@ AlgoResult run_vicp(const Scene& s, const AlgoOptions& a)
     return r;
 }
 
+AlgoResult raycast_result(gpu::RaycastFrame f, const gpu::RaycastVolume& rv, double ms)
+{
+    AlgoResult r;
+    r.ms = ms;
+    const auto& st = f.stats;
+    const gpu::RaycastOptions& o = rv.options();
+    r.stats = {{"step", o.step},
+               {"preintegrate", o.preintegrate},
+               {"threshold", o.threshold},
+               {"shading", o.light.has_value()},
+               {"volume_format", gpu::texel_format_name(rv.texel_format())},
+               {"rays", st.rays},
+               {"samples", st.samples},
+               {"max_samples_per_pixel", st.max_samples},
+               {"stages_ms", {{"table", st.table_ms}, {"setup", st.setup_ms}, {"march", st.march_ms},
+                              {"readback", st.readback_ms}}}};
+    r.image = std::move(f.image);
+    r.samples = std::move(f.samples);
+    return r;
+}
+
+AlgoResult run_raycast(const Scene& s, const AlgoOptions& a)
+{
+    if (a.backend != "emu" && a.backend != "gl")
+        throw InputError("", "--backend must be emu or gl, not '" + a.backend + "'");
+    check_algorithm_scene(s, "raycast");
+    const auto t0 = Clock::now();
+    auto ms = [&] { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); };
+    const gpu::RaycastOptions o = raycast_options(a);
+    if (a.backend == "emu") {
+        const gpu::RaycastRenderer rc(s.volume(), s.tf, o);
+        gpu::RaycastFrame f = rc.render(s.camera, s.width, s.height);
+        return raycast_result(std::move(f), rc.cpu_stage(), ms());
+    }
+    gpu::GlContext ctx(gpu::parse_gl_platform(a.gl));
+    gpu::GlRaycastRenderer rc(ctx, s.volume(), s.tf, o);
+    gpu::RaycastFrame f = rc.render(s.camera, s.width, s.height);
+    AlgoResult r = raycast_result(std::move(f), rc.cpu_stage(), ms());
+    r.stats["gl"] = ctx.info().summary();
+    return r;
+}
+
 }  // namespace
 
 void run_algorithm_check(const std::string& algo)
 {
-    if (algo == "reference" || algo == "havs" || algo == "vicp") return;
-    if (algo == "raycast")
-        throw InputError("", "--algo " + algo + " is not available yet: reference, havs and vicp have landed "
-                             "(docs/status.md)");
+    if (algo == "reference" || algo == "havs" || algo == "vicp" || algo == "raycast") return;
     throw InputError("", "unknown algorithm '" + algo + "' (reference, havs, vicp, raycast)");
+}
+
+void check_algorithm_scene(const Scene& s, const std::string& algo)
+{
+    run_algorithm_check(algo);
+    if (algo == "havs" || algo == "vicp") s.mesh();  // throws for a regular grid
+    if (algo == "raycast" && !s.is_volume())
+        throw InputError(s.mesh().source, "is a tetrahedral mesh: --algo raycast renders regular grids (.vti, .nrrd, "
+                                          "structured points, raw)");
 }
 
 AlgoResult run_algorithm(const Scene& s, const std::string& algo, const AlgoOptions& o)
 {
     run_algorithm_check(algo);
     if (algo == "reference") return run_reference(s, !o.no_cache);
+    if (algo == "raycast") return run_raycast(s, o);
     return algo == "vicp" ? run_vicp(s, o) : run_havs(s, o);
 }
 

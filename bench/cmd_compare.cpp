@@ -37,8 +37,7 @@ nlohmann::json measures_json(const ErrorMeasures& e)
 nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos, const AlgoOptions& o,
                            const std::string& dir, const std::string& mesh_name)
 {
-    for (const auto& algo : algos)
-        if (algo != "reference") s.mesh();  // a regular grid takes only the reference so far: refused before any output
+    for (const auto& algo : algos) check_algorithm_scene(s, algo);  // refused before any output
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) throw InputError(dir, "cannot create the report directory: " + ec.message());
@@ -71,10 +70,12 @@ nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos
     for (const auto& algo : algos) {
         if (algo == "reference") continue;
         const AlgoResult r = run_algorithm(s, algo, o);
-        // The label names what sets the image apart: HAVS's backend and k, VICP's backend and cell order.
-        const std::string label = algo == "havs"   ? "havs-" + o.backend + "-k" + std::to_string(o.k)
-                                  : algo == "vicp" ? "vicp-" + o.backend + "-" + o.order
-                                                   : algo;
+        // The label names what sets the image apart: HAVS's backend and k, VICP's backend and cell order, the ray
+        // caster's backend and classification.
+        const std::string label = algo == "havs"      ? "havs-" + o.backend + "-k" + std::to_string(o.k)
+                                  : algo == "vicp"    ? "vicp-" + o.backend + "-" + o.order
+                                  : algo == "raycast" ? "raycast-" + o.backend + (o.preintegrate ? "-preint" : "-post")
+                                                      : algo;
         add(algo, r, label);
     }
     write_file_atomically(dir + "/metrics.json", m.dump(1) + "\n");

@@ -91,6 +91,7 @@ GlPlatform parse_gl_platform(const std::string& name);        // throws InputErr
     X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)                                                                  \
     X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                                                        \
     X(PFNGLUNIFORM3DPROC, Uniform3d)                                                                                \
+    X(PFNGLUNIFORM3FPROC, Uniform3f)                                                                                \
     X(PFNGLCULLFACEPROC, CullFace)                                                                                  \
     X(PFNGLFRONTFACEPROC, FrontFace)                                                                                \
     X(PFNGLPROVOKINGVERTEXPROC, ProvokingVertex)
