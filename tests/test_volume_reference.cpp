@@ -12,8 +12,10 @@
 #include "reference/topology.h"
 #include "reference/volume_integrator.h"
 #include "test_support.h"
+#include "volume_scenes.h"
 
 using namespace uvr;
+using test::grid;
 
 namespace {
 
@@ -22,22 +24,6 @@ namespace {
 // (~1e-15 each). Issue 7 asks for 1e-9; anything skipped or doubled (a lost cell, a piece counted twice) costs
 // orders of magnitude more.
 constexpr double kRayTolerance = 1e-9;
-
-Volume grid(std::array<int64_t, 3> dims, glm::dvec3 origin, glm::dvec3 spacing,
-            const std::function<double(const glm::dvec3&)>& field)
-{
-    Volume v;
-    v.source = "test grid";
-    v.dims = dims;
-    v.origin = origin;
-    v.spacing = spacing;
-    for (int64_t k = 0; k < dims[2]; ++k)
-        for (int64_t j = 0; j < dims[1]; ++j)
-            for (int64_t i = 0; i < dims[0]; ++i)
-                v.values.push_back(float(field(origin + glm::dvec3(double(i), double(j), double(k)) * spacing)));
-    finalize_volume(v);
-    return v;
-}
 
 // The same samples as a structured grid of points, split into tetrahedra.
 TetMesh as_tetrahedra(const Volume& v)

@@ -1,0 +1,133 @@
+// The ray caster on GL (OSMesa, llvmpipe) against its emulation, frame by frame (issue 7, SPEC §5 frame level): the GL
+// frame and the emulated frame must be the same float32 RGBA bits at every pixel, with the same number of samples per
+// pixel, for every volume format, both classifications, shading, early termination and the hard views.
+#include "gl_frames.h"
+#include "gpu/gl_raycast.h"
+#include "volume_scenes.h"
+
+using namespace uvr;
+using namespace uvr::gpu;
+using test::FrameDiff;
+using test::osmesa;
+
+namespace {
+
+constexpr int kSize = 64;
+
+RaycastOptions options(bool preintegrate = false, VolumeFormat format = VolumeFormat::native)
+{
+    RaycastOptions o;
+    o.preintegrate = preintegrate;
+    o.volume_format = format;
+    return o;
+}
+
+void require_identical(const Volume& v, const TransferFunction& tf, const Camera& cam, const RaycastOptions& o,
+                       GlContext& ctx = osmesa())
+{
+    const RaycastFrame emu = RaycastRenderer(v, tf, o).render(cam, kSize, kSize);
+    GlRaycastRenderer gl(ctx, v, tf, o);
+    const RaycastFrame frame = gl.render(cam, kSize, kSize);
+    const FrameDiff d = test::diff_frames(
+        frame.image, emu.image, [&](std::size_t p) { return frame.samples[p] != emu.samples[p]; },
+        [&](std::size_t p) {
+            return "; samples GL " + std::to_string(frame.samples[p]) + ", emulation " + std::to_string(emu.samples[p]);
+        });
+    INFO(v.source << ", texture " << texel_format_name(gl.cpu_stage().texel_format())
+                  << (o.preintegrate ? ", pre-integrated" : ", post-classified") << (o.light ? ", shaded" : "")
+                  << ", threshold " << o.threshold << ", eye " << cam.eye.x << " " << cam.eye.y << " " << cam.eye.z
+                  << ": " << emu.stats.samples << " samples (emulation), " << frame.stats.samples << " (GL)");
+    INFO(d.differing << " of " << d.pixels << " pixels differ; " << d.first);
+    REQUIRE(emu.stats.samples > 0);
+    CHECK(d.differing == 0);
+    CHECK(d.coverage_differs == 0);
+    CHECK(d.diagnostics_differ == 0);
+    CHECK(frame.stats.samples == emu.stats.samples);
+}
+
+RaycastLight light_beside(const Volume& v)
+{
+    const Bounds b = volume_bounds(v);
+    RaycastLight l;
+    l.position = b.hi + b.extent();
+    return l;
+}
+
+}  // namespace
+
+TEST_CASE("ray caster on GL equals its emulation on the shared volumes")
+{
+    for (const char* rel : {"vtk-data/neghip.slc", "vtk-data/ironProt.vtk", "vtk-data/hydrogen.vti"}) {
+        SECTION(rel)
+        {
+            for (double az : {0.0, 37.0}) {
+                const test::VolumeScene s = test::volume_scene(rel, az, 23.0);
+                require_identical(s.volume, s.tf, s.camera, options(false));
+                require_identical(s.volume, s.tf, s.camera, options(true));
+            }
+        }
+    }
+}
+
+TEST_CASE("ray caster on GL equals its emulation in every volume texture format")
+{
+    const test::VolumeScene s = test::volume_scene("vtk-data/neghip.slc", -50.0, 10.0);
+    for (VolumeFormat f : {VolumeFormat::f32, VolumeFormat::u16, VolumeFormat::u8}) {
+        SECTION(std::string("format ") + std::to_string(int(f)))
+        {
+            require_identical(s.volume, s.tf, s.camera, options(false, f));
+            require_identical(s.volume, s.tf, s.camera, options(true, f));
+        }
+    }
+}
+
+TEST_CASE("ray caster on GL equals its emulation with shading and without early termination")
+{
+    const test::VolumeScene s = test::volume_scene("vtk-data/neghip.slc", 20.0, 30.0);
+    RaycastOptions o = options(false);
+    o.light = light_beside(s.volume);
+    SECTION("shaded, post-classified") { require_identical(s.volume, s.tf, s.camera, o); }
+    SECTION("shaded, pre-integrated")
+    {
+        o.preintegrate = true;
+        require_identical(s.volume, s.tf, s.camera, o);
+    }
+    SECTION("no early termination, a step that is not a divisor of the spacing")
+    {
+        o.light.reset();
+        o.threshold = 1.0f;
+        o.step = 0.37;
+        require_identical(s.volume, s.tf, s.camera, o);
+    }
+}
+
+TEST_CASE("ray caster on GL equals its emulation from inside the volume and in orthographic projection")
+{
+    const test::VolumeScene s = test::volume_scene("vtk-data/hydrogen.vti");
+    const Bounds b = volume_bounds(s.volume);
+    SECTION("camera inside")
+    {
+        Camera cam = s.camera;
+        cam.eye = b.center() + glm::dvec3(0.1, 0.2, 0.15) * b.extent();
+        cam.target = b.lo;
+        require_identical(s.volume, s.tf, cam, options(false));
+        require_identical(s.volume, s.tf, cam, options(true));
+    }
+    SECTION("orthographic, rays in the box's faces")
+    {
+        Camera cam = s.camera;
+        cam.orthographic = true;
+        cam.ortho_height = b.extent().y * 1.25;
+        cam.eye = {b.lo.x, b.lo.y, cam.eye.z};  // the centre pixel's ray runs along an edge of the box
+        cam.target = {b.lo.x, b.lo.y, b.center().z};
+        require_identical(s.volume, s.tf, cam, options(false));
+    }
+}
+
+TEST_CASE("ray caster on EGL equals its emulation")
+{
+    gpu::GlContext ctx(gpu::GlPlatform::egl);
+    const test::VolumeScene s = test::volume_scene("vtk-data/neghip.slc", 10.0, -20.0);
+    require_identical(s.volume, s.tf, s.camera, options(false), ctx);
+    require_identical(s.volume, s.tf, s.camera, options(true), ctx);
+}
