@@ -27,7 +27,8 @@ void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
     cmd.add_option("--table-size", o.table_size, "HAVS: pre-integration table texels per axis")->capture_default_str();
     cmd.add_option("--table-format", o.table_format, "HAVS: f32 | u16 | u8")->capture_default_str();
     cmd.add_flag("--no-cache", o.no_cache, "Do not read or write the reference image cache");
-    cmd.add_option("--step", o.step, "Ray caster: step in world units (default: half the smallest spacing)");
+    if (with_k)  // sweep takes a list of steps
+        cmd.add_option("--step", o.step, "Ray caster: step in world units (default: half the smallest spacing)");
     cmd.add_flag("--preintegrate", o.preintegrate, "Ray caster: pre-integrated segments between samples");
     cmd.add_option("--light", o.light, "Ray caster: X,Y,Z of a point light (world coordinates): Blinn-Phong shading");
     cmd.add_option("--volume-format", o.volume_format, "Ray caster: volume texture, native | f32 | u16 | u8")
@@ -79,8 +80,9 @@ gpu::RaycastOptions raycast_options(const AlgoOptions& a)
     if (h.threshold < 0.0) h.threshold = 0.95;
     const gpu::HavsOptions ho = havs_options(h);
     gpu::RaycastOptions o;
-    if (a.step < 0.0 || !std::isfinite(a.step)) throw InputError("", "--step must be positive (world units)");
-    o.step = a.step;
+    if (a.step != -1.0 && !(a.step > 0.0 && std::isfinite(a.step)))
+        throw InputError("", "--step must be positive and finite (world units)");
+    o.step = a.step > 0.0 ? a.step : 0.0;  // 0: RaycastVolume's default
     o.preintegrate = a.preintegrate;
     if (ho.segment == gpu::SegmentMode::exact && !a.preintegrate)
         throw InputError("", "--segment exact needs --preintegrate with --algo raycast (it integrates the segment "

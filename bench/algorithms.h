@@ -28,7 +28,7 @@ struct AlgoOptions {
     std::string table_format = "f32";
     bool no_cache = false;
     // The ray caster (regular grids).
-    double step = 0.0;             // world units; 0: half the smallest spacing
+    double step = -1.0;            // world units; unset (< 0): half the smallest spacing
     bool preintegrate = false;
     std::string light;             // "X,Y,Z": shading with a point light there
     std::string volume_format = "native";

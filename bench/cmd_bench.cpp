@@ -16,6 +16,7 @@
 #include "bench/commands.h"
 #include "bench/scene.h"
 #include "gpu/gl_havs.h"
+#include "gpu/gl_raycast.h"
 #include "gpu/gl_vicp.h"
 #include "bench/algorithms.h"
 #include "reference/error.h"
@@ -222,6 +223,54 @@ nlohmann::json bench_vicp(const Scene& s, const BenchArgs& a, const std::string&
     return j;
 }
 
+// Times the ray caster on one backend, post-classified or pre-integrated, with the default step and threshold.
+nlohmann::json bench_raycast(const Scene& s, const BenchArgs& a, bool preintegrate, const std::string& backend)
+{
+    gpu::RaycastOptions o;
+    o.preintegrate = preintegrate;
+    const auto t0 = Clock::now();
+    std::unique_ptr<gpu::GlContext> ctx;
+    std::unique_ptr<gpu::RaycastRenderer> emu;
+    std::unique_ptr<gpu::GlRaycastRenderer> gl;
+    if (backend == "emu") {
+        emu = std::make_unique<gpu::RaycastRenderer>(s.volume(), s.tf, o);
+    } else {
+        ctx = std::make_unique<gpu::GlContext>(gpu::parse_gl_platform(a.gl));
+        gl = std::make_unique<gpu::GlRaycastRenderer>(*ctx, s.volume(), s.tf, o);
+    }
+    const gpu::RaycastVolume& rv = emu ? emu->cpu_stage() : gl->cpu_stage();
+    const double build_ms = ms_since(t0);
+    std::vector<double> frame_ms, setup_ms, march_ms, readback_ms;
+    gpu::RaycastStats last;
+    for (int r = 0; r < a.warmup + a.repeat; ++r) {
+        const auto f0 = Clock::now();
+        const gpu::RaycastFrame f =
+            emu ? emu->render(s.camera, s.width, s.height) : gl->render(s.camera, s.width, s.height);
+        const double ms = ms_since(f0);
+        if (r < a.warmup) continue;
+        frame_ms.push_back(ms);
+        setup_ms.push_back(f.stats.setup_ms);
+        march_ms.push_back(f.stats.march_ms);
+        readback_ms.push_back(f.stats.readback_ms);
+        last = f.stats;
+    }
+    nlohmann::json j;
+    j["algo"] = "raycast";
+    j["backend"] = backend;
+    if (ctx) j["gl"] = ctx->info().summary();
+    j["classification"] = preintegrate ? "pre-integrated" : "post";
+    j["step"] = rv.options().step;
+    j["volume_format"] = gpu::texel_format_name(rv.texel_format());
+    j["frame_ms"] = median(frame_ms);
+    j["frame_ms_all"] = frame_ms;
+    j["build_ms"] = build_ms;
+    j["stages"] = {{"setup", median(setup_ms)}, {"march", median(march_ms)}, {"readback", median(readback_ms)}};
+    j["samples"] = last.samples;
+    j["samples_per_s"] = double(last.samples) / (median(march_ms) / 1000.0);
+    j["texture_bytes"] = rv.texture_bytes();
+    return j;
+}
+
 }  // namespace
 
 void register_bench(CLI::App& app)
@@ -229,7 +278,7 @@ void register_bench(CLI::App& app)
     auto* cmd = app.add_subcommand("bench", "Time each algorithm and each stage (median over repetitions)");
     auto a = std::make_shared<BenchArgs>();
     add_scene_options(*cmd, a->scene);
-    cmd->add_option("--algos,--algo", a->algos, "Comma-separated algorithms (reference, havs, vicp)")->capture_default_str();
+    cmd->add_option("--algos,--algo", a->algos, "Comma-separated algorithms (reference, havs, vicp, raycast)")->capture_default_str();
     cmd->add_option("--repeat", a->repeat, "Timed repetitions")->capture_default_str()->check(CLI::Range(1, 1000));
     cmd->add_option("--warmup", a->warmup, "Untimed repetitions first")->capture_default_str()->check(CLI::Range(0, 100));
     cmd->add_option("--k", a->k, "HAVS: k-buffer entries")->capture_default_str();
@@ -250,8 +299,7 @@ void register_bench(CLI::App& app)
         const auto t0 = Clock::now();
         const Scene s = setup_scene(a->scene);
         const double load_ms = ms_since(t0);
-        for (const auto& x : algos)
-            if (x != "reference") s.mesh();  // a regular grid takes only the reference so far: refused before timing
+        for (const auto& x : algos) check_algorithm_scene(s, x);  // refused before timing
         // Per element: tetrahedra of a mesh, voxels (samples) of a regular grid.
         const auto& dims = s.is_volume() ? s.volume().dims : std::array<int64_t, 3>{0, 0, 0};
         const std::size_t elements =
@@ -268,6 +316,11 @@ void register_bench(CLI::App& app)
         for (const auto& x : algos) {
             if (x == "reference") {
                 out["results"].push_back(bench_reference(s, *a));
+                continue;
+            }
+            if (x == "raycast") {
+                for (const auto& b : backends)
+                    for (bool pre : {false, true}) out["results"].push_back(bench_raycast(s, *a, pre, b));
                 continue;
             }
             if (x == "vicp") {
@@ -292,6 +345,12 @@ void register_bench(CLI::App& app)
                 std::printf(" %6.2f Mrays/s  %6.2f Msegments/s  (setup %.1f ms)\n",
                             r["rays_per_s"].get<double>() / 1e6, r["segments_per_s"].get<double>() / 1e6,
                             r["stages"]["setup"].get<double>());
+            else if (r["algo"] == "raycast")
+                std::printf(" %-14s %6.2f Msamples/s  setup %.1f, march %.1f, readback %.1f ms; step %g, %s texture\n",
+                            r["classification"].get<std::string>().c_str(), r["samples_per_s"].get<double>() / 1e6,
+                            r["stages"]["setup"].get<double>(), r["stages"]["march"].get<double>(),
+                            r["stages"]["readback"].get<double>(), r["step"].get<double>(),
+                            r["volume_format"].get<std::string>().c_str());
             else if (r["algo"] == "vicp")
                 std::printf(" %-8s %6.2f Mfragments/s  sort %.1f, project %.1f, vertex+setup %.1f, raster+fragment "
                             "%.1f ms; %.0f bytes sent per tetrahedron (the seed's: %.0f); %llu ordering errors, %llu "

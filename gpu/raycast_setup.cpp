@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 #include "reference/error.h"
 
@@ -33,9 +34,12 @@ RaycastVolume::RaycastVolume(const Volume& volume, const TransferFunction& tf, c
     const glm::dvec3 e = box.extent();
     const double diagonal = std::sqrt(e.x * e.x + e.y * e.y + e.z * e.z);
     if (diagonal / options_.step > double(kMaxRaySamples - 2))
-        throw InputError(volume.source, "--step " + std::to_string(options_.step) +
-                                            " would take more than " + std::to_string(kMaxRaySamples) +
-                                            " samples along the volume's diagonal (" + std::to_string(diagonal) + ")");
+    {
+        char msg[160];
+        std::snprintf(msg, sizeof msg, "--step %g would take more than %d samples along the volume's diagonal (%g)",
+                      options_.step, kMaxRaySamples, diagonal);
+        throw InputError(volume.source, msg);
+    }
     if (!(options_.threshold >= 0.0f && options_.threshold <= 1.0f))
         throw InputError(volume.source, "--threshold must be in [0, 1]");
     if (options_.light && !(options_.light->shininess >= 0 && options_.light->shininess <= 1024))

@@ -135,11 +135,12 @@ TEST_CASE("bad input makes uvr exit non-zero with a message naming the file, nev
         CHECK_THAT(r.err, Catch::Contains("no/such/dir/a.npy") && Catch::Contains("cannot write"));
         CHECK(std::filesystem::is_empty(tmp.file("")));
     }
-    SECTION("a command whose algorithm has not landed says so")
+    SECTION("the ray caster refuses a tetrahedral mesh, naming it")
     {
         const CommandResult r = run_uvr("render builtin:torus-small --algo raycast --out /tmp/uvr-never-written.npy");
         CHECK(r.exit_code == 1);
-        CHECK_THAT(r.err, Catch::Contains("not available yet"));
+        CHECK_THAT(r.err, Catch::Contains("is a tetrahedral mesh"));
+        CHECK(!std::filesystem::exists("/tmp/uvr-never-written.npy"));
     }
 }
 
@@ -383,5 +384,61 @@ TEST_CASE("uvr render --algo reference renders a regular grid; what needs a mesh
             CHECK(!std::filesystem::exists(tmp.file("never.npy")));
             CHECK(!std::filesystem::exists(tmp.file("never")));
         }
+    }
+}
+
+TEST_CASE("uvr render, compare and sweep run the ray caster on a regular grid and refuse bad options")
+{
+    TempDir tmp("cli-raycast");
+    const std::string volume = "'" + data_path("vtk-data/neghip.slc") + "' --size 40x32 ";
+    SECTION("emulated and GL images are the same bits")
+    {
+        const CommandResult emu = run_uvr("render " + volume + "--algo raycast --json --out '" + tmp.file("e.npy") + "'");
+        const CommandResult gl =
+            run_uvr("render " + volume + "--algo raycast --backend gl --gl osmesa --json --out '" + tmp.file("g.npy") + "'");
+        INFO(emu.err << gl.err);
+        REQUIRE(emu.exit_code == 0);
+        REQUIRE(gl.exit_code == 0);
+        const auto j = nlohmann::json::parse(emu.out);
+        CHECK(j["volume_format"] == "u8");
+        CHECK(j["step"].get<double>() == 0.5);  // half the smallest spacing (1)
+        CHECK(j["samples"].get<uint64_t>() > 0);
+        const uvr::Image a = uvr::read_npy(tmp.file("e.npy")), b = uvr::read_npy(tmp.file("g.npy"));
+        CHECK(a.rgba == b.rgba);
+    }
+    SECTION("compare and sweep --step measure against the reference")
+    {
+        const CommandResult c = run_uvr("compare " + volume + "--algos raycast --preintegrate --json --report '" +
+                                        tmp.file("c") + "'");
+        INFO(c.err);
+        REQUIRE(c.exit_code == 0);
+        const auto j = nlohmann::json::parse(c.out);
+        CHECK(j["results"][1]["label"] == "raycast-emu-preint");
+        CHECK(std::filesystem::exists(tmp.file("c/raycast-emu-preint-error.png")));
+        const CommandResult sw =
+            run_uvr("sweep " + volume + "--step 1,0.5 --threshold 1 --json --report '" + tmp.file("s") + "'");
+        INFO(sw.err);
+        REQUIRE(sw.exit_code == 0);
+        const auto rows = nlohmann::json::parse(sw.out)["rows"];
+        REQUIRE(rows.size() == 4u);  // two steps, post-classified and pre-integrated
+        CHECK(rows[1]["rmse"].get<double>() < rows[0]["rmse"].get<double>());
+        CHECK(std::filesystem::exists(tmp.file("s/sweep.csv")));
+    }
+    SECTION("bad options: a clear error, nothing written")
+    {
+        for (const std::string& args : {std::string("--step 0"), std::string("--step 1e-9"),
+                                        std::string("--light 1,2"), std::string("--volume-format u4"),
+                                        std::string("--segment exact"), std::string("--threshold 2")}) {
+            const std::string out = tmp.file("never.npy");
+            const CommandResult r = run_uvr("render " + volume + "--algo raycast " + args + " --out '" + out + "'");
+            INFO(args << ": " << r.err);
+            CHECK(r.exit_code == 1);
+            CHECK(!r.err.empty());
+            CHECK(!std::filesystem::exists(out));
+        }
+        const CommandResult m = run_uvr("sweep builtin:torus-small --step 1 --report '" + tmp.file("never") + "'");
+        CHECK(m.exit_code == 1);
+        CHECK_THAT(m.err, Catch::Contains("is a tetrahedral mesh"));
+        CHECK(!std::filesystem::exists(tmp.file("never")));
     }
 }
