@@ -37,17 +37,13 @@
 
 #include "gpu/classification_table.h"
 #include "gpu/havs_fragment.h"
+#include "gpu/pixel_rays.h"
 #include "gpu/texture_sampling.h"
 
 namespace uvr::gpu {
 
-// Per-frame constants (uniforms). The pixel's ray as VICP's (gpu/vicp_fragment.h), relative to the box's centre.
-struct RaycastFrameConstants {
-    double two_over_width = 0.0, two_over_height = 0.0;
-    glm::dvec3 eye{0.0};
-    glm::dvec3 ray_ox{0.0}, ray_oy{0.0};
-    glm::dvec3 ray_d0{0.0};
-    glm::dvec3 ray_dx{0.0}, ray_dy{0.0};
+// Per-frame constants (uniforms): the pixels' rays (gpu/pixel_rays.h) relative to the box's centre, and the rest.
+struct RaycastFrameConstants : PixelRays {
     glm::dvec3 box_lo{0.0}, box_hi{0.0};  // the samples' box, relative to its centre
     glm::dvec3 tex_scale{0.0};            // 1 / (dims * spacing): world units to texture coordinates
     glm::dvec3 tex_half{0.0};             // 0.5 / dims: texel 0's centre

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "gpu/pixel_rays.h"
 #include "reference/error.h"
 
 namespace uvr::gpu {
@@ -129,21 +130,7 @@ TextureView RaycastVolume::view() const
 RaycastFrameConstants raycast_frame_constants(const RaycastVolume& rv, const Camera& cam, int width, int height)
 {
     RaycastFrameConstants fc;
-    const CameraFrame cf = camera_frame(cam);
-    fc.two_over_width = 2.0 / double(width);
-    fc.two_over_height = 2.0 / double(height);
-    fc.eye = cam.eye - rv.origin();
-    fc.ray_d0 = cf.f;
-    const double aspect = double(width) / double(height);
-    if (cam.orthographic) {
-        const double h = 0.5 * cam.ortho_height;
-        fc.ray_ox = cf.r * (h * aspect);
-        fc.ray_oy = cf.u * h;
-    } else {
-        const double t = std::tan(0.5 * cam.fovy_deg * 3.14159265358979323846 / 180.0);
-        fc.ray_dx = cf.r * (t * aspect);
-        fc.ray_dy = cf.u * t;
-    }
+    static_cast<PixelRays&>(fc) = pixel_rays(cam, width, height, rv.origin());
     const Volume& v = rv.volume();
     const Bounds box = volume_bounds(v);
     fc.box_lo = box.lo - rv.origin();

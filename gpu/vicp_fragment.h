@@ -40,18 +40,13 @@
 #include <glm/vec4.hpp>
 
 #include "gpu/havs_fragment.h"
+#include "gpu/pixel_rays.h"
 #include "gpu/vicp_vertex.h"
 
 namespace uvr::gpu {
 
-// Per-frame constants (uniforms): the pixel's ray is o = eye + ndc_x * ray_ox + ndc_y * ray_oy,
-// d = ray_d0 + ndc_x * ray_dx + ndc_y * ray_dy, with ndc = gl_FragCoord * (2 / size) - 1.
-struct VicpFrameConstants {
-    double two_over_width = 0.0, two_over_height = 0.0;
-    glm::dvec3 eye{0.0};                      // the eye relative to the mesh's centre
-    glm::dvec3 ray_ox{0.0}, ray_oy{0.0};      // orthographic: the image plane's half extents; perspective: 0
-    glm::dvec3 ray_d0{0.0};                   // the view direction (unit)
-    glm::dvec3 ray_dx{0.0}, ray_dy{0.0};      // perspective: the image plane at distance 1; orthographic: 0
+// Per-frame constants (uniforms): the pixels' rays (gpu/pixel_rays.h) relative to the mesh's centre, and the rest.
+struct VicpFrameConstants : PixelRays {
     float threshold = 1.0f;                   // the opacity kill; 1 (the default for VICP) never kills
     float length_scale = 0.0f, length_bias = 0.0f;  // the seed's sz.z and sz.w (pre-integrated table)
 };

@@ -1,5 +1,7 @@
 #include "gpu/vicp_setup.h"
 
+#include "gpu/pixel_rays.h"
+
 #include <chrono>
 #include <cmath>
 
@@ -111,20 +113,7 @@ VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& cam, int width
     // The pixels' rays in the mesh's centred frame.
     VicpFrameConstants& fc = fs.constants;
     const CameraFrame cf = camera_frame(cam);
-    fc.two_over_width = 2.0 / double(width);
-    fc.two_over_height = 2.0 / double(height);
-    fc.eye = cam.eye - vm.origin();
-    fc.ray_d0 = cf.f;
-    const double aspect = double(width) / double(height);
-    if (cam.orthographic) {
-        const double h = 0.5 * cam.ortho_height;
-        fc.ray_ox = cf.r * (h * aspect);
-        fc.ray_oy = cf.u * h;
-    } else {
-        const double t = std::tan(0.5 * cam.fovy_deg * 3.14159265358979323846 / 180.0);
-        fc.ray_dx = cf.r * (t * aspect);
-        fc.ray_dy = cf.u * t;
-    }
+    static_cast<PixelRays&>(fc) = pixel_rays(cam, width, height, vm.origin());
     // Snapping: each point at its own depth along the view direction, moved to the ray through its snapped window
     // position (fixed value 256 * p is pixel p's centre, rasterize.h).
     fs.snapped.resize(pts.size());
