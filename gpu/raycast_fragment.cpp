@@ -4,9 +4,9 @@
 
 namespace uvr::gpu {
 
-RaycastRay raycast_ray(const RaycastFrameConstants& fc, int pix_x, int pix_y)
+RaycastRayExact raycast_ray_exact(const RaycastFrameConstants& fc, int pix_x, int pix_y)
 {
-    RaycastRay ray;
+    RaycastRayExact ray;
     const double ndc_x = (double(pix_x) + 0.5) * fc.two_over_width - 1.0;
     const double ndc_y = (double(pix_y) + 0.5) * fc.two_over_height - 1.0;
     const double o[3] = {(fc.eye.x + ndc_x * fc.ray_ox.x) + ndc_y * fc.ray_oy.x,
@@ -43,13 +43,27 @@ RaycastRay raycast_ray(const RaycastFrameConstants& fc, int pix_x, int pix_y)
     for (int i = 0; i < 3; ++i) {
         const double entry = o[i] + t_in * d[i], exit = o[i] + t_out * d[i];
         const double dir = d[i] / scale;
-        ray.tex0[i] = float((entry - lo[i]) * tex_scale[i] + tex_half[i]);
-        ray.tex_exit[i] = float((exit - lo[i]) * tex_scale[i] + tex_half[i]);
-        ray.dtex[i] = float((dir * fc.step) * tex_scale[i]);
+        ray.tex0[i] = (entry - lo[i]) * tex_scale[i] + tex_half[i];
+        ray.tex_exit[i] = (exit - lo[i]) * tex_scale[i] + tex_half[i];
+        ray.dtex[i] = (dir * fc.step) * tex_scale[i];
         ray.entry[i] = entry;
         ray.dir[i] = dir;
     }
-    ray.last_length = float(length - double(n - 1) * fc.step);
+    ray.last_length = length - double(n - 1) * fc.step;
+    return ray;
+}
+
+RaycastRay rounded_ray(const RaycastRayExact& e)
+{
+    RaycastRay ray;
+    ray.samples = e.samples;
+    ray.tex0 = glm::vec3(e.tex0);
+    ray.dtex = glm::vec3(e.dtex);
+    ray.tex_exit = glm::vec3(e.tex_exit);
+    ray.last_length = float(e.last_length);
+    ray.length = e.length;
+    ray.entry = e.entry;
+    ray.dir = e.dir;
     return ray;
 }
 
@@ -62,11 +76,11 @@ glm::vec3 raycast_gradient(const RaycastFrameConstants& fc, const RaycastTexture
     return {gx, gy, gz};
 }
 
-glm::vec2 raycast_light(const RaycastFrameConstants& fc, const RaycastRay& ray, double t, const glm::vec3& g)
+glm::dvec2 raycast_light_factors(const RaycastFrameConstants& fc, const RaycastRay& ray, double t, const glm::vec3& g)
 {
     const double gx = g.x, gy = g.y, gz = g.z;
     const double gg = (gx * gx + gy * gy) + gz * gz;
-    if (gg == 0.0) return {1.0f, 0.0f};
+    if (gg == 0.0) return {1.0, 0.0};
     const double lx = fc.light.x - (ray.entry.x + t * ray.dir.x);
     const double ly = fc.light.y - (ray.entry.y + t * ray.dir.y);
     const double lz = fc.light.z - (ray.entry.z + t * ray.dir.z);
@@ -87,7 +101,7 @@ glm::vec2 raycast_light(const RaycastFrameConstants& fc, const RaycastRay& ray, 
             specular = power;
         }
     }
-    return {float(fc.ambient + fc.diffuse * diffuse), float(fc.specular * specular)};
+    return {fc.ambient + fc.diffuse * diffuse, fc.specular * specular};
 }
 
 namespace {

@@ -32,6 +32,7 @@
 
 #include <cstdint>
 
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
@@ -74,7 +75,22 @@ struct RaycastRay {
     glm::dvec3 entry{0.0}, dir{0.0};  // world entry point (centred frame) and unit direction: shading's positions
 };
 
-RaycastRay raycast_ray(const RaycastFrameConstants& fc, int px, int py);
+// The double part's results before their rounding to float: what the stage harness compares (gpu/gl_raycast_harness.h),
+// so that a change in the double arithmetic shows even where it vanishes in the float it is rounded to.
+struct RaycastRayExact {
+    int samples = 0;
+    glm::dvec3 tex0{0.0}, dtex{0.0}, tex_exit{0.0};
+    double last_length = 0.0;
+    double length = 0.0;
+    glm::dvec3 entry{0.0}, dir{0.0};
+};
+
+RaycastRayExact raycast_ray_exact(const RaycastFrameConstants& fc, int px, int py);
+RaycastRay rounded_ray(const RaycastRayExact& e);  // each float member rounded from its double once
+inline RaycastRay raycast_ray(const RaycastFrameConstants& fc, int px, int py)
+{
+    return rounded_ray(raycast_ray_exact(fc, px, py));
+}
 
 // The textures the march reads, as the emulation holds them.
 struct RaycastTextures {
@@ -93,7 +109,13 @@ RaycastResult raycast_march(const RaycastFrameConstants& fc, const RaycastRay& r
 
 // The shading factors (m, p) at texture position p of sample distance t (world units past the entry) with the float
 // gradient g (exposed for the stage tests), and the shaded colour.
-glm::vec2 raycast_light(const RaycastFrameConstants& fc, const RaycastRay& ray, double t, const glm::vec3& g);
+// raycast_light_factors is the double part (compared by the stage harness); raycast_light rounds it to float.
+glm::dvec2 raycast_light_factors(const RaycastFrameConstants& fc, const RaycastRay& ray, double t, const glm::vec3& g);
+inline glm::vec2 raycast_light(const RaycastFrameConstants& fc, const RaycastRay& ray, double t, const glm::vec3& g)
+{
+    const glm::dvec2 f = raycast_light_factors(fc, ray, t, g);
+    return {float(f.x), float(f.y)};
+}
 glm::vec3 raycast_gradient(const RaycastFrameConstants& fc, const RaycastTextures& tex, const glm::vec3& p);
 
 }  // namespace uvr::gpu

@@ -41,14 +41,23 @@ struct RaycastRay {
     dvec3 entry, dir;
 };
 
-RaycastRay raycast_ray(ivec2 pix)
+// RaycastRayExact: the double part's results before their rounding (the stage harness reads these).
+struct RaycastRayExact {
+    int samples;
+    dvec3 tex0, dtex, tex_exit;
+    double last_length;
+    double length;
+    dvec3 entry, dir;
+};
+
+RaycastRayExact raycast_ray_exact(ivec2 pix)
 {
-    RaycastRay ray;
+    RaycastRayExact ray;
     ray.samples = 0;
-    ray.tex0 = vec3(0.0);
-    ray.dtex = vec3(0.0);
-    ray.tex_exit = vec3(0.0);
-    ray.last_length = 0.0;
+    ray.tex0 = dvec3(0.0lf);
+    ray.dtex = dvec3(0.0lf);
+    ray.tex_exit = dvec3(0.0lf);
+    ray.last_length = 0.0lf;
     ray.length = 0.0lf;
     ray.entry = dvec3(0.0lf);
     ray.dir = dvec3(0.0lf);
@@ -91,14 +100,30 @@ RaycastRay raycast_ray(ivec2 pix)
         precise double tex0 = (entry - rc_box_lo[i]) * rc_tex_scale[i] + rc_tex_half[i];
         precise double tex_exit = (exit_ - rc_box_lo[i]) * rc_tex_scale[i] + rc_tex_half[i];
         precise double dtex = (dir * rc_step) * rc_tex_scale[i];
-        ray.tex0[i] = float(tex0);
-        ray.tex_exit[i] = float(tex_exit);
-        ray.dtex[i] = float(dtex);
+        ray.tex0[i] = tex0;
+        ray.tex_exit[i] = tex_exit;
+        ray.dtex[i] = dtex;
         ray.entry[i] = entry;
         ray.dir[i] = dir;
     }
     precise double last = length - double(n - 1) * rc_step;
-    ray.last_length = float(last);
+    ray.last_length = last;
+    return ray;
+}
+
+// rounded_ray: each float member rounded from its double once.
+RaycastRay raycast_ray(ivec2 pix)
+{
+    RaycastRayExact e = raycast_ray_exact(pix);
+    RaycastRay ray;
+    ray.samples = e.samples;
+    ray.tex0 = vec3(e.tex0);
+    ray.dtex = vec3(e.dtex);
+    ray.tex_exit = vec3(e.tex_exit);
+    ray.last_length = float(e.last_length);
+    ray.length = e.length;
+    ray.entry = e.entry;
+    ray.dir = e.dir;
     return ray;
 }
 
@@ -115,11 +140,12 @@ vec3 raycast_gradient(vec3 p)
     return vec3(gx, gy, gz);
 }
 
-vec2 raycast_light(RaycastRay ray, double t, vec3 g)
+// raycast_light_factors: the double part; raycast_light rounds it to float.
+dvec2 raycast_light_factors(RaycastRay ray, double t, vec3 g)
 {
     double gx = double(g.x), gy = double(g.y), gz = double(g.z);
     precise double gg = (gx * gx + gy * gy) + gz * gz;
-    if (gg == 0.0lf) return vec2(1.0, 0.0);
+    if (gg == 0.0lf) return dvec2(1.0lf, 0.0lf);
     precise double lx = rc_light.x - (ray.entry.x + t * ray.dir.x);
     precise double ly = rc_light.y - (ray.entry.y + t * ray.dir.y);
     precise double lz = rc_light.z - (ray.entry.z + t * ray.dir.z);
@@ -143,7 +169,13 @@ vec2 raycast_light(RaycastRay ray, double t, vec3 g)
     }
     precise double m = rc_ambient + rc_diffuse * diffuse;
     precise double s = rc_specular * specular;
-    return vec2(float(m), float(s));
+    return dvec2(m, s);
+}
+
+vec2 raycast_light(RaycastRay ray, double t, vec3 g)
+{
+    dvec2 f = raycast_light_factors(ray, t, g);
+    return vec2(float(f.x), float(f.y));
 }
 
 // c.rgb * m + c.a * p, alpha unchanged (unfused).

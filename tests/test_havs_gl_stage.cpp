@@ -20,6 +20,7 @@
 #include "gpu/rasterize.h"
 #include "reference/transfer_function.h"
 #include "bit_compare.h"
+#include "gl_harness.h"
 #include "test_support.h"
 
 using namespace uvr;
@@ -29,28 +30,8 @@ using test::Mismatches;
 
 namespace {
 
-// One context per platform for the whole program (creating one compiles nothing, but llvmpipe's first shaders are
-// slow to build: the harness keeps its programs).
-struct Gl {
-    std::unique_ptr<GlContext> ctx;
-    std::unique_ptr<GlHavsFragmentHarness> harness;
-};
-Gl& gl(GlPlatform p)
-{
-    static Gl osmesa, egl;
-    Gl& g = p == GlPlatform::osmesa ? osmesa : egl;
-    if (!g.ctx) {
-        try {
-            g.ctx = std::make_unique<GlContext>(p);
-            g.harness = std::make_unique<GlHavsFragmentHarness>(*g.ctx);
-        } catch (const std::exception& e) {
-            FAIL("no GL context (" << gl_platform_name(p) << "): " << e.what());
-        }
-        WARN("GL " << gl_platform_name(p) << ": " << g.ctx->info().summary());
-    }
-    g.ctx->make_current();
-    return g;
-}
+using Gl = test::GlHarness<GlHavsFragmentHarness>;
+Gl& gl(GlPlatform p) { return test::gl_harness<GlHavsFragmentHarness>(p); }
 
 float next_up(float x) { return std::nextafter(x, INFINITY); }
 float next_down(float x) { return std::nextafter(x, -INFINITY); }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bit_compare.h"
+#include "gl_harness.h"
 #include "box_mesh.h"
 #include "gpu/denormals.h"
 #include "gpu/gl_vicp_harness.h"
@@ -23,26 +24,8 @@ using test::Scene;
 
 namespace {
 
-struct Gl {
-    std::unique_ptr<GlContext> ctx;
-    std::unique_ptr<GlVicpHarness> harness;
-};
-Gl& gl(GlPlatform p)
-{
-    static Gl osmesa, egl;
-    Gl& g = p == GlPlatform::osmesa ? osmesa : egl;
-    if (!g.ctx) {
-        try {
-            g.ctx = std::make_unique<GlContext>(p);
-            g.harness = std::make_unique<GlVicpHarness>(*g.ctx);
-        } catch (const std::exception& e) {
-            FAIL("no GL context (" << gl_platform_name(p) << "): " << e.what());
-        }
-        WARN("GL " << gl_platform_name(p) << ": " << g.ctx->info().summary());
-    }
-    g.ctx->make_current();
-    return g;
-}
+using Gl = test::GlHarness<GlVicpHarness>;
+Gl& gl(GlPlatform p) { return test::gl_harness<GlVicpHarness>(p); }
 
 // ---- vertex cases ----
 

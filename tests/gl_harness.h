@@ -1,0 +1,40 @@
+// One GL context and one stage harness per platform for the whole test program, shared by the stage tests
+// (test_havs_gl_stage, test_vicp_gl_stage, test_raycast_gl_stage). Creating a context compiles nothing, but
+// llvmpipe's first shaders are slow to build: the harness keeps its programs. A platform without a context fails the
+// test that asks for it, with the reason.
+#pragma once
+
+#include <exception>
+#include <memory>
+
+#include <catch2/catch.hpp>
+
+#include "gpu/gl_context.h"
+
+namespace uvr::test {
+
+template <typename Harness>
+struct GlHarness {
+    std::unique_ptr<gpu::GlContext> ctx;
+    std::unique_ptr<Harness> harness;
+};
+
+template <typename Harness>
+GlHarness<Harness>& gl_harness(gpu::GlPlatform p)
+{
+    static GlHarness<Harness> osmesa, egl;
+    GlHarness<Harness>& g = p == gpu::GlPlatform::osmesa ? osmesa : egl;
+    if (!g.ctx) {
+        try {
+            g.ctx = std::make_unique<gpu::GlContext>(p);
+            g.harness = std::make_unique<Harness>(*g.ctx);
+        } catch (const std::exception& e) {
+            FAIL("no GL context (" << gpu::gl_platform_name(p) << "): " << e.what());
+        }
+        WARN("GL " << gpu::gl_platform_name(p) << ": " << g.ctx->info().summary());
+    }
+    g.ctx->make_current();
+    return g;
+}
+
+}  // namespace uvr::test
