@@ -23,13 +23,18 @@ VolumeFormat parse_volume_format(const std::string& name)
     throw InputError("", "--volume-format must be native, f32, u16 or u8, not '" + name + "'");
 }
 
+double default_raycast_step(const Volume& volume)
+{
+    const glm::dvec3& sp = volume.spacing;
+    return 0.5 * std::min(sp.x, std::min(sp.y, sp.z));
+}
+
 RaycastVolume::RaycastVolume(const Volume& volume, const TransferFunction& tf, const RaycastOptions& options)
     : volume_(volume), options_(options), range_(volume_range(volume)), integrator_(tf)
 {
     const Bounds box = volume_bounds(volume);
     origin_ = box.center();
-    const glm::dvec3& sp = volume.spacing;
-    if (options_.step == 0.0) options_.step = 0.5 * std::min(sp.x, std::min(sp.y, sp.z));
+    if (options_.step == 0.0) options_.step = default_raycast_step(volume);
     if (!(options_.step > 0.0) || !std::isfinite(options_.step))
         throw InputError(volume.source, "--step must be positive and finite (world units)");
     const glm::dvec3 e = box.extent();

@@ -52,6 +52,9 @@ struct RaycastOptions {
     TexelFormat table_format = TexelFormat::f32;
 };
 
+// The step when none is given: half the smallest spacing (SPEC §3).
+double default_raycast_step(const Volume& volume);
+
 // A ray never takes more samples than this: --step is refused when the box's diagonal needs more.
 inline constexpr int kMaxRaySamples = 1 << 20;
 

@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# One command, one table (issue 9): uvr's algorithms (the reference; HAVS, and VICP in both cell orders, emulated and
-# on GL) and VTK 9's three unstructured-grid volume mappers on the same mesh, transfer function, camera and size, in
-# one run: milliseconds per frame (median), and each image's error against uvr's reference measured the same way for
-# all (SPEC §4 on the RGB colour over black, since VTK's images are 8-bit RGB: RMSE, visible fraction, and the
-# fraction of covered pixels left empty).
+# One command, one table (issues 7 and 9), on the same data, transfer function, camera and size, in one run:
+#   - a mesh: uvr's reference, HAVS, and VICP in both cell orders, emulated and on GL, and VTK 9's three
+#     unstructured-grid volume mappers;
+#   - a regular grid (a volume): uvr's reference and ray caster (both classifications, emulated and on GL) and VTK 9's
+#     GPU ray caster (vtkOpenGLGPUVolumeRayCastMapper, under Xvfb's Mesa).
+# Milliseconds per frame (median), and each image's error against uvr's reference measured the same way for all (SPEC
+# §4 on the RGB colour over black, since VTK's images are 8-bit RGB: RMSE, visible fraction, and the fraction of
+# covered pixels left empty).
 #   bash bench/peers/peer_table.sh MESH [scene options...]     e.g.
 #   bash bench/peers/peer_table.sh ../shared/data/vtk-data/bluntfinxyz.bin --q ../shared/data/vtk-data/bluntfinq.bin
+#   bash bench/peers/peer_table.sh ../shared/data/vtk-data/neghip.slc
 # Environment: K (HAVS k, default 6), GL (osmesa | egl, default osmesa), REPEAT (default 5), KEEP (a directory to keep
 # every image and JSON in). Needs Debian's python3-vtk9, python3-numpy and xvfb.
 set -euo pipefail
@@ -16,16 +20,28 @@ gl=${GL:-osmesa}
 repeat=${REPEAT:-5}
 if [ -n "${KEEP:-}" ]; then dir=$KEEP; mkdir -p "$dir"; else dir=$(mktemp -d); trap 'rm -rf "$dir"' EXIT; fi
 "$uvr" export "$@" --out "$dir/scene" >/dev/null
-"$uvr" compare "$@" --algos reference,havs,vicp --k "$k" --no-cache --report "$dir/emu" --json > "$dir/emu.json"
-"$uvr" compare "$@" --algos havs,vicp --backend gl --gl "$gl" --k "$k" --report "$dir/gl" --json > "$dir/gl.json"
-"$uvr" compare "$@" --algos vicp --order centroid --k "$k" --report "$dir/emu" --json > "$dir/emu-centroid.json"
-"$uvr" compare "$@" --algos vicp --order centroid --backend gl --gl "$gl" --report "$dir/gl" --json \
-  > "$dir/gl-centroid.json"
-"$uvr" bench "$@" --algos reference,havs,vicp --backend emu,gl --gl "$gl" --k "$k" --orders mpvonc,centroid \
-  --repeat "$repeat" --json > "$dir/bench.json"
 mkdir -p "$dir/vtk"
+if grep -q '"kind": "volume"' "$dir/scene/scene.json"; then
+  # A regular grid: uvr's ray caster (post-classified and pre-integrated, emulated and on GL) and VTK's GPU ray caster.
+  "$uvr" compare "$@" --algos reference,raycast --no-cache --report "$dir/emu" --json > "$dir/emu.json"
+  "$uvr" compare "$@" --algos raycast --preintegrate --report "$dir/emu" --json > "$dir/emu-preint.json"
+  "$uvr" compare "$@" --algos raycast --backend gl --gl "$gl" --report "$dir/gl" --json > "$dir/gl.json"
+  "$uvr" compare "$@" --algos raycast --preintegrate --backend gl --gl "$gl" --report "$dir/gl" --json \
+    > "$dir/gl-preint.json"
+  "$uvr" bench "$@" --algos reference,raycast --backend emu,gl --gl "$gl" --repeat "$repeat" --json > "$dir/bench.json"
+  mappers=gpu
+else
+  "$uvr" compare "$@" --algos reference,havs,vicp --k "$k" --no-cache --report "$dir/emu" --json > "$dir/emu.json"
+  "$uvr" compare "$@" --algos havs,vicp --backend gl --gl "$gl" --k "$k" --report "$dir/gl" --json > "$dir/gl.json"
+  "$uvr" compare "$@" --algos vicp --order centroid --k "$k" --report "$dir/emu" --json > "$dir/emu-centroid.json"
+  "$uvr" compare "$@" --algos vicp --order centroid --backend gl --gl "$gl" --report "$dir/gl" --json \
+    > "$dir/gl-centroid.json"
+  "$uvr" bench "$@" --algos reference,havs,vicp --backend emu,gl --gl "$gl" --k "$k" --orders mpvonc,centroid \
+    --repeat "$repeat" --json > "$dir/bench.json"
+  mappers=raycast,pt,zsweep
+fi
 xvfb-run -a /usr/bin/python3 "$here/bench/peers/vtk_peers.py" "$dir/scene" --reference "$dir/emu/reference.npy" \
-  --mappers raycast,pt,zsweep --repeat "$repeat" --save "$dir/vtk" > "$dir/vtk.json"
+  --mappers "$mappers" --repeat "$repeat" --save "$dir/vtk" > "$dir/vtk.json"
 /usr/bin/python3 - "$dir" "$k" "$gl" <<'PY'
 import json, sys
 import numpy as np
@@ -46,6 +62,11 @@ rows = []
 for r in b["results"]:
     if r["algo"] == "reference":
         img, name = ref, "uvr reference (exact, CPU)"
+    elif r["algo"] == "raycast":
+        sub, pre = r["backend"], r["classification"] == "pre-integrated"
+        img = np.load(f"{d}/{sub}/raycast-{sub}-{'preint' if pre else 'post'}.npy")
+        name = (f"uvr ray caster, {'pre-integrated' if pre else 'post-classified'}, step {r['step']:g}, "
+                + ("emulated" if sub == "emu" else f"GL ({gl})"))
     elif r["algo"] == "vicp":
         sub = r["backend"]
         img = np.load(f"{d}/{sub}/vicp-{sub}-{r['order']}.npy")
@@ -59,7 +80,8 @@ for r in v["results"]:
     rgb = np.load(f"{d}/vtk/{r['algo']}.npy")
     rows.append((f"VTK {v['vtk']} {r['algo'][4:]}", r["frame_ms"], *rgb_errors(rgb)))
 m = b["machine"]
-print(f"{b['mesh']}: {b['tetrahedra']} tetrahedra, {b['width']}x{b['height']}; {m['cpu']}, {m['threads']} threads; "
+elements = f"{b['tetrahedra']} tetrahedra" if "tetrahedra" in b else f"{b['voxels']} voxels"
+print(f"{b['mesh']}: {elements}, {b['width']}x{b['height']}; {m['cpu']}, {m['threads']} threads; "
       f"medians of {len(b['results'][0]['frame_ms_all'])}")
 print()
 print("| renderer | ms/frame | RMSE (RGB) | visible fraction | covered pixels left empty |")
@@ -68,5 +90,7 @@ for name, ms, rmse, vis, empty in rows:
     print(f"| {name} | {ms:.1f} | {rmse:.2e} | {vis:.4f} | {empty:.4f} |")
 print()
 print("GL: " + next((r["gl"] for r in b["results"] if "gl" in r), "not run"))
-print(f"peak memory of uvr bench: {b['peak_rss_mib']:.0f} MiB ({b['bytes_per_tet']:.0f} bytes per tetrahedron)")
+per = f"{b['bytes_per_tet']:.0f} bytes per tetrahedron" if "bytes_per_tet" in b else \
+    f"{b['bytes_per_voxel']:.0f} bytes per voxel"
+print(f"peak memory of uvr bench: {b['peak_rss_mib']:.0f} MiB ({per})")
 PY

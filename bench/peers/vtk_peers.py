@@ -5,6 +5,7 @@ error against uvr's reference image with SPEC section 4's measures.
     uvr export MESH [scene options] --out DIR
     uvr render MESH [same scene options] --algo reference --out DIR/reference.npy
     xvfb-run -a /usr/bin/python3 bench/peers/vtk_peers.py DIR --reference DIR/reference.npy [--mappers raycast,pt,zsweep]
+    (a volume: the same with VOLUME, and [--mappers gpu] [--step S])
 
 Prints one JSON object. Debian's python3-vtk9 renders through X, hence xvfb-run (Mesa's llvmpipe under Xvfb).
 
@@ -14,6 +15,14 @@ vtkUnstructuredGridHomogeneousRayIntegrator divides its attenuation table by the
 compute 1 - exp(-(a / u) L) per tetrahedron from thickness / unit distance), so a = tau u is exact, and u = 1 / tau_max
 keeps a in [0, 1] using its whole range: projected tetrahedra truncate a to 8 bits per vertex and discard fragments
 whose opacity is 0, so an a of 1/1000 (what an earlier u = diagonal / 1000 gave) left most of its image black.
+
+A regular grid (`uvr export VOLUME`, scene.json "kind": "volume") goes to VTK's GPU ray caster
+(vtkOpenGLGPUVolumeRayCastMapper, mapper "gpu"), the peer of uvr's ray caster: the same samples, trilinear
+interpolation, post-classification, the sample distance uvr's ray caster uses (--step, default the scene's
+default_step), no jittering, no automatic adjustment of the sample distance. That mapper corrects a sample's opacity as
+1 - (1 - a)^(d / u), so with the unit distance u = d and a = 1 - exp(-tau d) each sample's opacity is uvr's exactly at
+the nodes; the nodes are refined to 256 over the scalar range, because VTK interpolates a, not tau, linearly between
+them. It stops a ray at its own opacity threshold (1 - 1/255), uvr's ray caster at 0.95 unless told otherwise.
 """
 import argparse
 import json
@@ -30,21 +39,57 @@ MAPPERS = {
     "raycast": vtk.vtkUnstructuredGridVolumeRayCastMapper,
     "pt": vtk.vtkProjectedTetrahedraMapper,
     "zsweep": vtk.vtkUnstructuredGridVolumeZSweepMapper,
+    "gpu": vtk.vtkOpenGLGPUVolumeRayCastMapper,
 }
+VOLUME_MAPPERS = {"gpu"}  # the rest take tetrahedra
 
 
 def load(scene_dir):
-    reader = vtk.vtkUnstructuredGridReader()
-    reader.SetFileName(f"{scene_dir}/mesh.vtk")
-    reader.Update()
-    grid = reader.GetOutput()
     with open(f"{scene_dir}/tf.json") as f:
         tf = json.load(f)
     with open(f"{scene_dir}/camera.json") as f:
         cam = json.load(f)
     with open(f"{scene_dir}/scene.json") as f:
         scene = json.load(f)
-    return grid, tf, cam, scene
+    if scene.get("kind") == "volume":
+        reader = vtk.vtkStructuredPointsReader()
+        reader.SetFileName(f"{scene_dir}/volume.vtk")
+    else:
+        reader = vtk.vtkUnstructuredGridReader()
+        reader.SetFileName(f"{scene_dir}/mesh.vtk")
+    reader.Update()
+    return reader.GetOutput(), tf, cam, scene
+
+
+def piecewise(nodes, s):
+    """uvr's piecewise-linear function of s (constant beyond the first and last node)."""
+    if s <= nodes[0][0]:
+        return nodes[0][1:]
+    for (s0, *v0), (s1, *v1) in zip(nodes, nodes[1:]):
+        if s <= s1:
+            w = (s - s0) / (s1 - s0) if s1 > s0 else 1.0
+            return [a + w * (b - a) for a, b in zip(v0, v1)]
+    return nodes[-1][1:]
+
+
+def gpu_volume_property(tf, step, scalar_range):
+    """VTK's GPU ray caster: per-sample opacity a = 1 - exp(-tau d) with unit distance d (the module's docstring)."""
+    color = vtk.vtkColorTransferFunction()
+    for s, r, g, b in tf["color"]:
+        color.AddRGBPoint(s, r, g, b)
+    opacity = vtk.vtkPiecewiseFunction()
+    lo, hi = scalar_range
+    nodes = sorted({s for s, _ in tf["extinction"]} | {lo + (hi - lo) * i / 255.0 for i in range(256)})
+    for s in nodes:
+        (tau,) = piecewise(tf["extinction"], s)
+        opacity.AddPoint(s, 1.0 - math.exp(-tau * step))
+    prop = vtk.vtkVolumeProperty()
+    prop.SetColor(color)
+    prop.SetScalarOpacity(opacity)
+    prop.SetScalarOpacityUnitDistance(step)
+    prop.SetInterpolationTypeToLinear()
+    prop.ShadeOff()
+    return prop
 
 
 def volume_property(tf, unit):
@@ -63,9 +108,13 @@ def volume_property(tf, unit):
     return prop
 
 
-def render(name, grid, prop, cam, width, height, repeat):
+def render(name, grid, prop, cam, width, height, repeat, step=None):
     mapper = MAPPERS[name]()
     mapper.SetInputData(grid)
+    if name in VOLUME_MAPPERS:
+        mapper.AutoAdjustSampleDistancesOff()
+        mapper.SetSampleDistance(step)
+        mapper.UseJitteringOff()
     volume = vtk.vtkVolume()
     volume.SetMapper(mapper)
     volume.SetProperty(prop)
@@ -120,20 +169,37 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scene", help="directory written by `uvr export`")
     ap.add_argument("--reference", help="uvr's reference .npy of the same scene")
-    ap.add_argument("--mappers", default="raycast,pt,zsweep")
+    ap.add_argument("--mappers", help="comma-separated: raycast, pt, zsweep for a mesh (the default: all three); "
+                    "gpu for a volume (the default)")
+    ap.add_argument("--step", type=float, help="volume: the GPU ray caster's sample distance (default: the scene's "
+                    "default_step, uvr's)")
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--save", help="directory for the peers' images (.npy)")
     a = ap.parse_args()
     grid, tf, cam, scene = load(a.scene)
-    tau_max = max(tau for _, tau in tf["extinction"])
-    b = grid.GetBounds()
-    diagonal = math.sqrt((b[1] - b[0]) ** 2 + (b[3] - b[2]) ** 2 + (b[5] - b[4]) ** 2)
-    prop = volume_property(tf, 1.0 / tau_max if tau_max > 0 else diagonal)
+    is_volume = scene.get("kind") == "volume"
+    mappers = (a.mappers or ("gpu" if is_volume else "raycast,pt,zsweep")).split(",")
+    for name in mappers:
+        if name not in MAPPERS:
+            sys.exit(f"vtk_peers.py: unknown mapper '{name}' (one of {', '.join(MAPPERS)})")
+        if (name in VOLUME_MAPPERS) != is_volume:
+            sys.exit(f"vtk_peers.py: {a.scene} holds a {'volume' if is_volume else 'mesh'}; mapper '{name}' takes "
+                     f"{'a volume' if name in VOLUME_MAPPERS else 'tetrahedra'}")
+    step = a.step or scene.get("default_step")
+    if is_volume:
+        prop = gpu_volume_property(tf, step, scene["scalar_range"])
+    else:
+        tau_max = max(tau for _, tau in tf["extinction"])
+        b = grid.GetBounds()
+        diagonal = math.sqrt((b[1] - b[0]) ** 2 + (b[3] - b[2]) ** 2 + (b[5] - b[4]) ** 2)
+        prop = volume_property(tf, 1.0 / tau_max if tau_max > 0 else diagonal)
     reference = np.load(a.reference) if a.reference else None
     out = {"vtk": vtk.vtkVersion.GetVTKVersion(), "cells": grid.GetNumberOfCells(), "width": scene["width"],
            "height": scene["height"], "results": []}
-    for name in a.mappers.split(","):
-        median_ms, times, rgb = render(name, grid, prop, cam, scene["width"], scene["height"], a.repeat)
+    if is_volume:
+        out["step"] = step
+    for name in mappers:
+        median_ms, times, rgb = render(name, grid, prop, cam, scene["width"], scene["height"], a.repeat, step)
         r = {"algo": f"vtk-{name}", "backend": "vtk", "frame_ms": median_ms, "frame_ms_all": times}
         if reference is not None:
             r.update(errors(rgb, reference))
