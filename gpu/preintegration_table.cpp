@@ -11,6 +11,15 @@
 
 namespace uvr::gpu {
 
+Range texel_centred_range(const Range& data, int texels)
+{
+    const double span = data.hi > data.lo ? data.hi - data.lo : 1.0;
+    Range r;
+    r.lo = data.lo - 0.5 * span / double(texels - 1);
+    r.hi = r.lo + span * double(texels) / double(texels - 1);
+    return r;
+}
+
 namespace {
 
 // Up to 4096 texels per axis (a 4096^2 x 4096 table would be 2^38 texels: the limit only guards the size arithmetic).

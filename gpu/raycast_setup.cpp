@@ -58,8 +58,7 @@ RaycastVolume::RaycastVolume(const Volume& volume, const TransferFunction& tf, c
     // pre-integrated table, 2.1e-5 with the widened range; docs/raycast.md).
     const double lo = range_.lo, span = range_.hi > range_.lo ? range_.hi - range_.lo : 1.0;
     const int texels = options_.preintegrate ? options_.table_size : kClassificationTexels;
-    table_range_.lo = lo - 0.5 * span / double(texels - 1);
-    table_range_.hi = table_range_.lo + span * double(texels) / double(texels - 1);
+    table_range_ = texel_centred_range(range_, texels);
     const double table_span = table_range_.hi - table_range_.lo;
     // A texel's value u stands for the scalar u * unit + zero; the shader's x = u * scalar_scale + scalar_bias is
     // that scalar normalized over the tables' range.
