@@ -49,6 +49,30 @@ glm::dvec3 get(const double* v) { return {v[0], v[1], v[2]}; }
 
 constexpr std::size_t kChunk = std::size_t(kHarnessWidth) * kHarnessRows;
 
+// Runs `program` over `count` cases in chunks: `fill(base, m, pass)` makes the chunk's input buffers and returns the
+// output buffer, `read(base, m, pass, buffer)` reads it back.
+template <typename Fill, typename Read>
+void run_chunks(GlContext& ctx, const GlProgram& prog, GLuint vao, std::size_t count, const char* what, Fill fill,
+                Read read)
+{
+    const GlFunctions& gl = ctx.gl();
+    gl.Uniform1i(prog.uniform("harness_width"), kHarnessWidth);
+    gl.BindVertexArray(vao);
+    gl.Disable(GL_BLEND);
+    for (std::size_t base = 0; base < count; base += kChunk) {
+        const std::size_t m = std::min(kChunk, count - base);
+        const int w = kHarnessWidth, h = int((m + std::size_t(w) - 1) / std::size_t(w));
+        gl.Uniform1i(prog.uniform("harness_count"), GLint(m));
+        HarnessPass pass(gl);
+        const GLuint results = fill(base, m, pass);
+        pass.targets(ctx, {GL_RGBA32F}, w, h);
+        gl.DrawArrays(GL_TRIANGLES, 0, 3);
+        read(base, m, pass, results);
+        ctx.check_error(what);
+    }
+    gl.BindVertexArray(0);
+}
+
 }  // namespace
 
 GlRaycastHarness::GlRaycastHarness(GlContext& ctx) : ctx_(ctx)
@@ -80,30 +104,6 @@ const GlProgram& GlRaycastHarness::program(int which)
                            {}});
     }
     return *p;
-}
-
-// Runs `program` over `count` cases in chunks: `fill(base, m, pass)` makes the chunk's input buffers and returns the
-// output buffer, `read(base, m, pass, buffer)` reads it back.
-template <typename Fill, typename Read>
-void run_chunks(GlContext& ctx, const GlProgram& prog, GLuint vao, std::size_t count, const char* what, Fill fill,
-                Read read)
-{
-    const GlFunctions& gl = ctx.gl();
-    gl.Uniform1i(prog.uniform("harness_width"), kHarnessWidth);
-    gl.BindVertexArray(vao);
-    gl.Disable(GL_BLEND);
-    for (std::size_t base = 0; base < count; base += kChunk) {
-        const std::size_t m = std::min(kChunk, count - base);
-        const int w = kHarnessWidth, h = int((m + std::size_t(w) - 1) / std::size_t(w));
-        gl.Uniform1i(prog.uniform("harness_count"), GLint(m));
-        HarnessPass pass(gl);
-        const GLuint results = fill(base, m, pass);
-        pass.targets(ctx, {GL_RGBA32F}, w, h);
-        gl.DrawArrays(GL_TRIANGLES, 0, 3);
-        read(base, m, pass, results);
-        ctx.check_error(what);
-    }
-    gl.BindVertexArray(0);
 }
 
 std::vector<RaycastRayExact> GlRaycastHarness::run_ray(const RaycastFrameConstants& fc,
