@@ -102,14 +102,13 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     gl_->flush = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"fullscreen.vert"}, {}, {}},
                                              GlShaderSource{files, defines, extensions});
 
-    // The vertex buffer (float positions, as the emulation's points_f) and the element buffer, in one vertex array.
+    // The vertex buffer (the frame's float positions relative to the eye, filled each frame) and the element buffer,
+    // in one vertex array.
     gl.GenVertexArrays(1, &gl_->mesh_vao);
     gl.GenVertexArrays(1, &gl_->empty_vao);
     gl.BindVertexArray(gl_->mesh_vao);
     gl.GenBuffers(1, &gl_->vertex_buffer);
     gl.BindBuffer(GL_ARRAY_BUFFER, gl_->vertex_buffer);
-    const auto& pts = mesh_.points_f();
-    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(pts.size() * sizeof(glm::vec3)), pts.data(), GL_STATIC_DRAW);
     gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
     gl.EnableVertexAttribArray(0);
     gl.GenBuffers(1, &gl_->element_buffer);
@@ -140,18 +139,22 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     st.table_ms = mesh_.table_ms();
     st.faces = mesh_.face_count();
 
-    // CPU stage: sort, vertex stage, then the vertex indices of every face in sorted order.
+    // CPU stage: sort, vertex stage, clip stage; then the frame's vertex buffer and the vertex indices of every
+    // triangle in drawing order.
     const HavsFrameSetup fs = setup_havs_frame(mesh_, cam, width, height);
     st.sort_ms = fs.sort_ms;
+    store_clip_stats(fs, st);
     auto t0 = Clock::now();
-    const std::size_t nfaces = fs.order.size();
-    std::vector<uint32_t> indices(3 * nfaces);
-    const auto& faces = mesh_.faces();
-    tbb::parallel_for(std::size_t(0), nfaces, [&](std::size_t i) {
-        const uint32_t f = fs.order[i];
-        for (int j = 0; j < 3; ++j) indices[3 * i + std::size_t(j)] = faces[3 * std::size_t(f) + std::size_t(j)];
+    const std::size_t ntris = fs.draw.size();
+    std::vector<uint32_t> indices(3 * ntris);
+    tbb::parallel_for(std::size_t(0), ntris, [&](std::size_t i) {
+        const uint32_t* v = fs.triangle(mesh_, fs.draw[i]);
+        for (int j = 0; j < 3; ++j) indices[3 * i + std::size_t(j)] = v[j];
     });
     gl.BindVertexArray(gl_->mesh_vao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, gl_->vertex_buffer);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(fs.points_f.size() * sizeof(glm::vec3)), fs.points_f.data(),
+                  GL_STREAM_DRAW);
     gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(uint32_t)), indices.data(),
                   GL_STREAM_DRAW);
 
@@ -173,19 +176,19 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     use(*gl_->geometry);
     gl.UniformMatrix4fv(gl_->geometry->uniform("havs_mvp", true), 1, GL_FALSE, &fs.view.mvp[0][0]);
     ctx_.check_error("preparing the HAVS geometry pass");
-    st.setup_ms = fs.vertex_ms + ms_since(t0);
+    st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
 
-    // The geometry pass: the faces in sorted order, as few draws as the storage buffer's block size allows (GL keeps
+    // The geometry pass: the triangles in drawing order, as few draws as the storage buffer's block size allows (GL keeps
     // primitive order across draws, so the pixels see the same sequence as from one draw). Each draw's face constants
     // are built and uploaded just before it: the CPU never holds more than one chunk of them.
     const std::size_t chunk = faces_per_draw();
-    std::vector<GlHavsFace> records(std::min(chunk, nfaces));
+    std::vector<GlHavsFace> records(std::min(chunk, ntris));
     gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, gl_->face_buffer);
-    for (std::size_t c0 = 0; c0 < nfaces; c0 += chunk) {
-        const std::size_t n = std::min(chunk, nfaces - c0);
+    for (std::size_t c0 = 0; c0 < ntris; c0 += chunk) {
+        const std::size_t n = std::min(chunk, ntris - c0);
         t0 = Clock::now();
         tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-            records[i] = pack_havs_face(havs_face_constants(mesh_, fs, fs.order[c0 + i]));
+            records[i] = pack_havs_face(havs_face_constants(mesh_, fs, fs.draw[c0 + i]));
         });
         gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(n * sizeof(GlHavsFace)), records.data(), GL_STREAM_DRAW);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, gl_->face_buffer);

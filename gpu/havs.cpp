@@ -55,6 +55,15 @@ void store_havs_frame(const std::vector<glm::vec4>& colour, const std::vector<KB
     });
 }
 
+void store_clip_stats(const HavsFrameSetup& fs, HavsStats& st)
+{
+    st.clipped_faces = fs.clipped_faces;
+    st.culled_faces = fs.culled_faces;
+    st.near_sections = fs.near_sections;
+    st.gpu_clipped = fs.gpu_clipped;
+    st.triangles = fs.draw.size();
+}
+
 HavsRenderer::HavsRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
                            const TransferFunction& tf, const HavsOptions& options)
     : mesh_(mesh, topo, field, tf, checked_k(options))
@@ -74,15 +83,15 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     const HavsFrameSetup fs = setup_havs_frame(mesh_, cam, width, height);
     const HavsFrameConstants& fc = fs.constants;
     const std::vector<WindowCoord>& win = fs.win;
-    const std::vector<uint32_t>& faces = mesh_.faces();
     const Framebuffer fbuf{width, height, RenderTarget::fbo};
     st.sort_ms = fs.sort_ms;
+    store_clip_stats(fs, st);
     auto t0 = Clock::now();
 
-    // Bin the sorted faces into screen tiles by their window-space bounding boxes.
+    // Bin the triangles, in drawing order, into screen tiles by their window-space bounding boxes.
     ScreenTiles tiles(width, height);
-    for (uint32_t f : fs.order) tiles.add(f, win, &faces[3 * std::size_t(f)], 3);
-    st.setup_ms = fs.vertex_ms + ms_since(t0);
+    for (std::size_t i = 0; i < fs.draw.size(); ++i) tiles.add(uint32_t(i), win, fs.triangle(mesh_, fs.draw[i]), 3);
+    st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
 
     // The segment shader: the table as llvmpipe samples it, or the exact integral in double.
     const SegmentShader shade =
@@ -100,8 +109,9 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
         const FlushDenormals llvmpipe_mxcsr;  // the fragment stage rounds as llvmpipe's shaders do (gpu/denormals.h)
         int px0, px1, py0, py1;
         tiles.pixels(b, px0, px1, py0, py1);
-        for (uint32_t f : tiles.items(b)) {
-            const uint32_t* v = &faces[3 * std::size_t(f)];
+        for (uint32_t i : tiles.items(b)) {
+            const uint32_t id = fs.draw[i];
+            const uint32_t* v = fs.triangle(mesh_, id);
             const WindowCoord wv[3] = {win[v[0]], win[v[1]], win[v[2]]};
             const TriangleSetup ts = setup_triangle(wv, fbuf);
             if (ts.empty()) continue;
@@ -109,7 +119,7 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
             // outward, so it is an exit face when the rasterizer sees it back-facing (clockwise in window coordinates:
             // gl_FrontFacing false) and an entry face otherwise. The rasterizer's facing comes from the snapped area, so it agrees with the
             // coverage the fragments come from even for slivers.
-            HavsFace face = havs_face_constants(mesh_, fs, f);
+            HavsFace face = havs_face_constants(mesh_, fs, id);
             if (face.side == kSideExit && ts.facing != Facing::back) face.side = kSideEntry;
             const int ya = std::max(ts.y0, py0), yb = std::min(ts.y1, py1);
             for (int py = ya; py <= yb; ++py) {

@@ -23,6 +23,10 @@ struct HavsStats {
     double sort_ms = 0, setup_ms = 0, raster_fragment_ms = 0, flush_ms = 0, table_ms = 0;
     double readback_ms = 0;  // the GL backend's glReadPixels (0 in the emulation)
     uint32_t draws = 0;      // the GL backend's geometry draw calls
+    // The clip stage (gpu/clip.h): triangles drawn, faces clipped into fans, faces culled, near-plane sections drawn,
+    // and drawn triangles with a vertex the GPU's frustum test would clip (0 unless the clip stage's margins failed:
+    // there the GL frame may differ from the emulated one).
+    uint64_t triangles = 0, clipped_faces = 0, culled_faces = 0, near_sections = 0, gpu_clipped = 0;
 };
 
 struct HavsFrame {
@@ -36,6 +40,9 @@ struct HavsFrame {
 // (SPEC rows), with the diagnostics summed into out.stats. Without diagnostics the frame's vectors stay empty.
 void store_havs_frame(const std::vector<glm::vec4>& colour, const std::vector<KBufferDiagnostics>* diagnostics,
                       int width, int height, HavsFrame& out);
+
+// The clip stage's counts into the frame's statistics, for both backends.
+void store_clip_stats(const HavsFrameSetup& fs, HavsStats& st);
 
 class HavsRenderer {
 public:

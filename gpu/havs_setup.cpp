@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
 
+#include "gpu/clip.h"
 #include "gpu/face_sort.h"
 #include "reference/error.h"
 
@@ -60,9 +61,6 @@ HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t fi
                    const HavsOptions& options)
     : mesh_(mesh), options_(options), integrator_(tf), range_(field_range(mesh.fields.at(field)))
 {
-    origin_ = mesh_bounds(mesh).center();
-    points_f_.reserve(mesh.points.size());
-    for (const auto& p : mesh.points) points_f_.push_back(glm::vec3(p - origin_));
     const double span = range_.hi > range_.lo ? range_.hi - range_.lo : 1.0;
     for (double s : mesh.fields[field].values) scalar_n_.push_back((s - range_.lo) / span);
     // Welded points (a coincident twin exists): a boundary face made only of them lies on a seam inside the mesh (the
@@ -84,36 +82,158 @@ HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t fi
                                      options_.table_max_length, table_ms_);
 }
 
+namespace {
+
+// The clip stage's frame vertices: a mesh point stays itself, a crossing becomes a new frame vertex.
+class FrameVertices {
+public:
+    FrameVertices(const HavsMesh& hm, HavsFrameSetup& fs)
+        : fs_(fs), frame_(camera_frame(fs.camera)), fbuf_{fs.width, fs.height, RenderTarget::fbo},
+          points_(uint32_t(hm.mesh().points.size()))
+    {
+    }
+
+    uint32_t add(const ClipVertex& v)
+    {
+        if (v.id != ClipVertex::kNewVertex) return v.id;
+        const uint32_t id = uint32_t(fs_.points_f.size());
+        fs_.points_f.push_back(glm::vec3(v.p));
+        const auto clip = clip_position(fs_.view.mvp, fs_.points_f.back());
+        fs_.win.push_back(viewport_transform(clip.data(), fbuf_));
+        glm::dvec3 wd;
+        window_position_d(fs_.view, v.p, fs_.width, fs_.height, wd.x, wd.y, wd.z);
+        fs_.win_d.push_back(wd);
+        fs_.eye.push_back(eye_space(frame_, v.p));
+        fs_.extra_s.push_back(v.s);
+        gpu_outside_.push_back(outside_gpu_frustum(clip) ? 1 : 0);
+        return id;
+    }
+
+    // The clipped polygon as a fan of extra triangles lying on `face`, drawn next.
+    void draw_fan(const std::vector<ClipVertex>& poly, uint32_t face)
+    {
+        if (poly.size() < 3) return;
+        ids_.clear();
+        for (const ClipVertex& v : poly) ids_.push_back(add(v));
+        for (std::size_t i = 1; i + 1 < ids_.size(); ++i) {
+            fs_.draw.push_back(fs_.mesh_faces + uint32_t(fs_.extra_face.size()));
+            fs_.extra.insert(fs_.extra.end(), {ids_[0], ids_[i], ids_[i + 1]});
+            fs_.extra_face.push_back(face);
+        }
+    }
+
+    bool gpu_outside(uint32_t v, const std::vector<uint8_t>& points_outside) const
+    {
+        return v < points_ ? points_outside[v] != 0 : gpu_outside_[v - points_] != 0;
+    }
+
+private:
+    HavsFrameSetup& fs_;
+    CameraFrame frame_;
+    Framebuffer fbuf_;
+    uint32_t points_;
+    std::vector<uint8_t> gpu_outside_;
+    std::vector<uint32_t> ids_;
+};
+
+}  // namespace
+
 HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width, int height)
 {
     HavsFrameSetup fs;
     fs.camera = cam;
     fs.width = width;
     fs.height = height;
+    const TetMesh& mesh = hm.mesh();
+    const std::size_t npts = mesh.points.size();
+    fs.mesh_faces = uint32_t(hm.face_count());
+
+    // The frame's vertex buffer: positions relative to the eye, in float. Relative to the eye, a clip coordinate's
+    // float rounding is a fixed fraction of its w, however near the eye the point lies or far the mesh from the
+    // world's origin (coordinates at 1e8 with features at 1e-3 keep their features), as the clip stage needs.
+    auto t0 = Clock::now();
+    fs.points_f.resize(npts);
+    tbb::parallel_for(std::size_t(0), npts, [&](std::size_t i) { fs.points_f[i] = glm::vec3(mesh.points[i] - cam.eye); });
 
     // Sort the faces front to back by squared centroid distance.
-    auto t0 = Clock::now();
     std::vector<float> keys;
-    std::vector<uint32_t> scratch;
-    face_sort_keys(hm.points_f(), hm.faces(), glm::vec3(cam.eye - hm.origin()), keys);
-    radix_sort_faces(keys, fs.order, scratch);
+    std::vector<uint32_t> order, scratch;
+    face_sort_keys(fs.points_f, hm.faces(), glm::vec3(0.0f), keys);
+    radix_sort_faces(keys, order, scratch);
     fs.sort_ms = ms_since(t0);
 
-    // The vertex stage for every point.
+    // The vertex stage for every point, and which planes of the clip stage each point lies outside of.
     t0 = Clock::now();
-    fs.view = view_setup(cam, width, height, mesh_bounds(hm.mesh()), hm.origin());
+    fs.view = view_setup(cam, width, height, mesh_bounds(mesh), cam.eye, NearPlane::clipped);
+    const ClipPlanes planes = inner_clip_planes(width, height);
+    const CameraFrame frame = camera_frame(cam);
     const Framebuffer fbuf{width, height, RenderTarget::fbo};
-    const auto& pts = hm.points_f();
-    fs.win.resize(pts.size());
-    fs.win_d.resize(pts.size());
-    fs.eye.resize(pts.size());
-    tbb::parallel_for(std::size_t(0), pts.size(), [&](std::size_t i) {
-        const auto clip = clip_position(fs.view.mvp, pts[i]);
+    fs.win.resize(npts);
+    fs.win_d.resize(npts);
+    fs.eye.resize(npts);
+    std::vector<uint8_t> codes(npts), gpu_outside(npts);
+    tbb::parallel_for(std::size_t(0), npts, [&](std::size_t i) {
+        const auto clip = clip_position(fs.view.mvp, fs.points_f[i]);
         fs.win[i] = viewport_transform(clip.data(), fbuf);
-        window_position_d(fs.view, hm.mesh().points[i] - hm.origin(), width, height, fs.win_d[i].x, fs.win_d[i].y,
-                          fs.win_d[i].z);
-        fs.eye[i] = eye_position(cam, hm.mesh().points[i]);
+        const glm::dvec3 d = mesh.points[i] - cam.eye;
+        window_position_d(fs.view, d, width, height, fs.win_d[i].x, fs.win_d[i].y, fs.win_d[i].z);
+        fs.eye[i] = eye_space(frame, d);
+        codes[i] = uint8_t(outcode(planes, clip_vertex(fs.view, d, 0.0).c));
+        gpu_outside[i] = outside_gpu_frustum(clip) ? 1 : 0;
     });
+    fs.vertex_ms = ms_since(t0);
+
+    // The clip stage. First the near plane's sections of the cells it cuts (the nearest surfaces, in cell order), then
+    // the faces in sorted order: inside every plane as they are, wholly outside one plane not at all, the others as
+    // the fans of their clipped polygons.
+    t0 = Clock::now();
+    FrameVertices frame_vertices(hm, fs);
+    auto clip_vertex_of = [&](uint32_t i) {
+        ClipVertex v = clip_vertex(fs.view, mesh.points[i] - cam.eye, hm.scalar_n(i));
+        v.id = i;
+        return v;
+    };
+    std::vector<ClipVertex> poly, poly_scratch;
+    constexpr unsigned kNearBit = 1u << kClipNear;
+    if (fs.view.near_cuts) {
+        for (const Tet& t : mesh.tets) {
+            const unsigned any = codes[t[0]] | codes[t[1]] | codes[t[2]] | codes[t[3]];
+            const unsigned all = codes[t[0]] & codes[t[1]] & codes[t[2]] & codes[t[3]];
+            if (!(any & kNearBit) || (all & kNearBit) || (all & ~kNearBit)) continue;
+            const ClipVertex v[4] = {clip_vertex_of(t[0]), clip_vertex_of(t[1]), clip_vertex_of(t[2]),
+                                     clip_vertex_of(t[3])};
+            near_section(fs.view, planes, v, poly);
+            clip_polygon(fs.view, planes, poly, poly_scratch, kClipLeft);
+            if (poly.size() >= 3) ++fs.near_sections;
+            frame_vertices.draw_fan(poly, kNearSection);
+        }
+    }
+    fs.draw.reserve(fs.draw.size() + order.size());
+    const std::vector<uint32_t>& faces = hm.faces();
+    for (uint32_t f : order) {
+        const uint32_t* v = &faces[3 * std::size_t(f)];
+        const unsigned any = codes[v[0]] | codes[v[1]] | codes[v[2]];
+        const unsigned all = codes[v[0]] & codes[v[1]] & codes[v[2]];
+        if (any == 0) {
+            fs.draw.push_back(f);
+        } else if (all != 0) {
+            ++fs.culled_faces;
+        } else {
+            ++fs.clipped_faces;
+            poly.assign({clip_vertex_of(v[0]), clip_vertex_of(v[1]), clip_vertex_of(v[2])});
+            clip_polygon(fs.view, planes, poly, poly_scratch);
+            frame_vertices.draw_fan(poly, f);
+        }
+    }
+    for (uint32_t id : fs.draw) {
+        const uint32_t* v = fs.triangle(hm, id);
+        for (int j = 0; j < 3; ++j)
+            if (frame_vertices.gpu_outside(v[j], gpu_outside)) {
+                ++fs.gpu_clipped;
+                break;
+            }
+    }
+    fs.clip_ms = ms_since(t0);
 
     HavsFrameConstants& fc = fs.constants;
     fc.two_over_width = 2.0 / double(width);
@@ -133,13 +253,13 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
     // heuristic); with exact gaps it is a safety net under the exit-face marking, for a fragment that rounding placed
     // just behind the exit face it belongs before (a ray grazing a silhouette edge).
     fc.max_gap = float(hm.longest_edge());
-    fs.vertex_ms = ms_since(t0);
     return fs;
 }
 
-HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t f)
+HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id)
 {
-    const uint32_t* v = &hm.faces()[3 * std::size_t(f)];
+    const uint32_t* v = fs.triangle(hm, id);
+    const std::size_t npts = hm.mesh().points.size();
     HavsFace face;
     for (int j = 0; j < 3; ++j) {
         face.q[j] = fs.eye[v[j]];
@@ -147,9 +267,10 @@ HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint3
         face.fx[j] = snap_to_fixed(fs.win[v[j]].x);
         face.fy[j] = snap_to_fixed(fs.win[v[j]].y);
         face.inv_w[j] = fs.win_d[v[j]].z;
-        face.s[j] = hm.scalar_n(v[j]);
+        face.s[j] = v[j] < npts ? hm.scalar_n(v[j]) : fs.extra_s[v[j] - npts];
     }
-    face.side = hm.exit_capable(f) ? kSideExit : kSideInterior;
+    const uint32_t source = id < fs.mesh_faces ? id : fs.extra_face[id - fs.mesh_faces];
+    face.side = source != kNearSection && hm.exit_capable(source) ? kSideExit : kSideInterior;
     return face;
 }
 

@@ -1,12 +1,13 @@
 // HAVS's CPU stage, shared by the emulated driver (havs.cpp) and the GL driver (gl_havs.cpp), so that both draw the
-// same faces in the same order with the same constants:
-//   - once per mesh (HavsMesh): float vertex positions relative to the mesh's centre (the vertex buffer), normalized
-//     scalars, the unique faces with
-//     their boundary marks, the longest edge, the pre-integration table;
-//   - once per frame (setup_havs_frame): the faces sorted front to back (face_sort), every vertex through the vertex
-//     stage (havs_vertex: float clip -> window coordinates as llvmpipe's draw module computes them, and the double
-//     geometry of the fragment stage), the frame's constants (HavsFrameConstants);
-//   - once per face drawn (havs_face_constants): the flat per-face constants (HavsFace) in double, rounded once.
+// same triangles in the same order with the same constants:
+//   - once per mesh (HavsMesh): normalized scalars, the unique faces with their boundary marks, the longest edge, the
+//     pre-integration table;
+//   - once per frame (setup_havs_frame): the frame's vertex buffer (float positions relative to the eye), the faces
+//     sorted front to back (face_sort), every vertex through the vertex stage (havs_vertex: float clip -> window
+//     coordinates as llvmpipe's draw module computes them, and the double geometry of the fragment stage), the clip
+//     stage (clip: faces that leave the view frustum replaced by the fans of their clipped polygons, and, when the near
+//     plane cuts the mesh, the cells' near-plane sections drawn first), the frame's constants (HavsFrameConstants);
+//   - once per triangle drawn (havs_face_constants): the flat per-face constants (HavsFace) in double, rounded once.
 #pragma once
 
 #include <cstdint>
@@ -64,9 +65,6 @@ public:
     const SegmentIntegrator& integrator() const { return integrator_; }
     const Range& range() const { return range_; }
     double longest_edge() const { return longest_edge_; }
-    // The vertex buffer: float positions relative to origin() (the centre of the mesh's bounds; see view_setup).
-    const std::vector<glm::vec3>& points_f() const { return points_f_; }
-    const glm::dvec3& origin() const { return origin_; }
     const std::vector<uint32_t>& faces() const { return faces_; }  // 3 point indices per unique face
     std::size_t face_count() const { return faces_.size() / 3; }
     const PreintegrationTable* table() const { return table_.get(); }  // null with --segment exact
@@ -82,8 +80,6 @@ private:
     SegmentIntegrator integrator_;
     Range range_;
     double longest_edge_ = 0.0;
-    glm::dvec3 origin_{0.0};
-    std::vector<glm::vec3> points_f_;
     std::vector<double> scalar_n_;
     std::vector<uint32_t> faces_;
     std::vector<uint8_t> boundary_;
@@ -91,25 +87,45 @@ private:
     double table_ms_ = 0.0;
 };
 
+// What a frame draws, as ids: below the mesh's face count a mesh face drawn as it is; from there on an extra
+// triangle of the frame (a piece of a clipped face, or of a near-plane section).
+inline constexpr uint32_t kNearSection = 0xFFFFFFFFu;  // extra_face of a near-plane section's triangle
+
 // One frame's CPU work.
 struct HavsFrameSetup {
     Camera camera;
     int width = 0, height = 0;
-    ViewSetup view;
-    std::vector<uint32_t> order;       // face indices, front to back
-    std::vector<WindowCoord> win;      // per point: what the rasterizer receives (float pipeline, FBO setup space)
-    std::vector<glm::dvec3> win_d;     // per point: x, y, 1 / w in double (the fragment stage's geometry)
-    std::vector<glm::dvec3> eye;       // per point: eye-space position in double (eye_position)
+    ViewSetup view;                    // positions relative to the eye (view_setup's origin), near plane clipped
+    std::vector<uint32_t> draw;        // what is drawn, front to back (see above)
+    // Frame vertices: the mesh's points, then the vertices the clip stage made.
+    std::vector<glm::vec3> points_f;   // the vertex buffer: float positions relative to the eye
+    std::vector<WindowCoord> win;      // what the rasterizer receives (float pipeline, FBO setup space)
+    std::vector<glm::dvec3> win_d;     // x, y, 1 / w in double (the fragment stage's geometry)
+    std::vector<glm::dvec3> eye;       // eye-space position in double (eye_position)
+    std::vector<double> extra_s;       // normalized scalars of the clip stage's vertices
+    std::vector<uint32_t> extra;       // 3 frame vertices per extra triangle
+    std::vector<uint32_t> extra_face;  // per extra triangle: the mesh face it lies on, or kNearSection
+    uint32_t mesh_faces = 0;           // the mesh's face count: the first extra triangle's id
     HavsFrameConstants constants;
-    double sort_ms = 0.0, vertex_ms = 0.0;
+    uint64_t clipped_faces = 0;        // faces that crossed a plane and were drawn as clipped fans
+    uint64_t culled_faces = 0;         // faces wholly outside one plane, not drawn
+    uint64_t near_sections = 0;        // cells cut by the near plane, drawn through their sections
+    uint64_t gpu_clipped = 0;          // drawn vertices the GPU's frustum test would still clip (expected 0)
+    double sort_ms = 0.0, vertex_ms = 0.0, clip_ms = 0.0;
+
+    // The three frame vertices of draw id `id`.
+    const uint32_t* triangle(const HavsMesh& hm, uint32_t id) const
+    {
+        return id < mesh_faces ? &hm.faces()[3 * std::size_t(id)] : &extra[3 * std::size_t(id - mesh_faces)];
+    }
 };
 
-// Sorts the faces and runs the vertex stage. Throws InputError when the camera is inside the mesh's bounds.
+// Sorts the faces, runs the vertex stage and the clip stage.
 HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& camera, int width, int height);
 
-// Face f's flat constants. `side` is kSideExit when f is a boundary face (exact gaps): each driver keeps it where the
-// rasterizer sees the face back-facing and makes it kSideEntry otherwise (the emulation from its setup's facing, the
-// shader from gl_FrontFacing).
-HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t f);
+// The flat constants of draw id `id`. `side` is kSideExit when it lies on a boundary face (exact gaps): each driver
+// keeps it where the rasterizer sees the triangle back-facing and makes it kSideEntry otherwise (the emulation from its
+// setup's facing, the shader from gl_FrontFacing). A near-plane section is interior.
+HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id);
 
 }  // namespace uvr::gpu

@@ -48,14 +48,15 @@ Mat4d view_matrix(const Camera& cam, const glm::dvec3& origin)
 
 }  // namespace
 
-glm::dvec3 eye_position(const Camera& cam, const glm::dvec3& p)
+glm::dvec3 eye_space(const CameraFrame& fr, const glm::dvec3& d)
 {
-    const CameraFrame fr = camera_frame(cam);
-    const glm::dvec3 d = p - cam.eye;
     return {glm::dot(fr.r, d), glm::dot(fr.u, d), -glm::dot(fr.f, d)};
 }
 
-ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, const glm::dvec3& origin)
+glm::dvec3 eye_position(const Camera& cam, const glm::dvec3& p) { return eye_space(camera_frame(cam), p - cam.eye); }
+
+ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, const glm::dvec3& origin,
+                     NearPlane near)
 {
     // Depth range: the bounds' corners along the view direction, widened by 1 % of the bounds' size.
     const CameraFrame fr = camera_frame(cam);
@@ -68,9 +69,20 @@ ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, 
     }
     const double margin = 0.01 * glm::length(b.extent()) + 1e-9;
     double n = zmin - margin, f = zmax + margin;
+    bool near_cuts = false;
+    if (near == NearPlane::clipped) {
+        const double floor = kNearPlane * glm::length(b.extent());
+        if (!(n >= floor)) {
+            n = floor;
+            near_cuts = true;
+            f = std::max(f, n + margin);
+        }
+    }
     Mat4d p{};
     const double aspect = double(width) / double(height);
     if (cam.orthographic) {
+        // z_ndc(depth d) = (2 d - f - n) / (f - n) is -1 + kNearMargin at d = the near distance for this n (< 0).
+        if (near_cuts) n = (n - 0.5 * kNearMargin * f) / (1.0 - 0.5 * kNearMargin);
         const double h = 0.5 * cam.ortho_height, w = h * aspect;
         p[0][0] = 1.0 / w;
         p[1][1] = 1.0 / h;
@@ -78,9 +90,9 @@ ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, 
         p[3][2] = -(f + n) / (f - n);
         p[3][3] = 1.0;
     } else {
-        if (!(n > 1e-6 * (f > 0 ? f : 1.0)))
-            throw InputError("", "the camera is inside or too close to the mesh's bounds: HAVS and VICP need the mesh "
-                                 "in front of the eye (the draw module's near-plane clipping is not emulated)");
+        if (near == NearPlane::before_bounds && !(n > 1e-6 * (f > 0 ? f : 1.0)))
+            throw InputError("", "the camera is inside or too close to the mesh's bounds: VICP needs the mesh in "
+                                 "front of the eye (the draw module's near-plane clipping is not emulated for it)");
         const double t = 1.0 / std::tan(0.5 * cam.fovy_deg * 3.14159265358979323846 / 180.0);
         p[0][0] = t / aspect;
         p[1][1] = t;
@@ -90,7 +102,7 @@ ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, 
     }
     const Mat4d v = view_matrix(cam, origin);
     const Mat4d mvp = multiply(p, v);
-    return {to_float(v), to_float(p), to_float(mvp), mvp};
+    return {to_float(v), to_float(p), to_float(mvp), mvp, n, f, near_cuts};
 }
 
 void window_position_d(const ViewSetup& vs, const glm::dvec3& p, int width, int height, double& x, double& y,

@@ -23,14 +23,36 @@ struct ViewSetup {
     Mat4f projection;  // eye -> clip (OpenGL conventions, depth in [-1, 1])
     Mat4f mvp;         // projection * view, multiplied in double before rounding
     std::array<std::array<double, 4>, 4> mvp_d;  // the same in double (the fragment stage's exact geometry)
+    double near = 0.0, far = 0.0;                // the planes' distances along the view direction
+    bool near_cuts = false;  // NearPlane::clipped put the near plane in front of part of the bounds
 };
 
-// Near and far planes enclose `bounds` seen from the camera (with a margin), so the draw module never clips a face
-// of the mesh in depth. Throws InputError when the eye is inside or too close to the bounds for a near plane.
-// The matrices take points relative to `origin` (a model matrix's translation): the vertex buffer holds p - origin in
-// float, so that a mesh far from the world's origin (coordinates at 1e8, features at 1e-3) keeps its features, as a
-// GPU application would do it. HAVS passes the centre of the mesh's bounds.
-ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& bounds, const glm::dvec3& origin);
+// Where the near plane goes.
+enum class NearPlane {
+    // In front of the whole bounds (with a margin), so the draw module never clips a face in depth. Throws InputError
+    // when a perspective eye is inside or too close to the bounds for that (VICP).
+    before_bounds,
+    // As before_bounds where the bounds allow it, else kNearPlane times the bounds' diagonal in front of the eye; what
+    // lies nearer is then clipped on the CPU (gpu/clip.h) before the draw (HAVS). Orthographic views too: rays start
+    // on the image plane, and nothing behind it may be drawn.
+    clipped,
+};
+
+// The near distance of NearPlane::clipped, as a fraction of the bounds' diagonal: the ray from the eye is integrated
+// from there on, so a camera inside the mesh misses the first 1e-6 of the diagonal (an opacity of at most the
+// extinction times that). Not smaller, so that the near plane stays far above the double rounding of the clip
+// coordinates of points a diagonal away.
+inline constexpr double kNearPlane = 1e-6;
+
+// How far inside the GPU's near plane the clip stage clips, in normalized depth (z / w = -1 + kNearMargin): some 500
+// times the float rounding of z / w there. Under perspective the GPU's plane lies at the near distance and the clip
+// stage's at that times (1 + kNearMargin / 2); orthographic, where a normalized depth is a fixed fraction of the
+// depth range, the GPU's plane is moved back instead, so that the clip stage's lies at the near distance.
+inline constexpr double kNearMargin = 1.0 / 4096.0;
+
+// The far plane encloses `bounds` seen from the camera (with a margin), the near plane as `near` says.
+ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& bounds, const glm::dvec3& origin,
+                     NearPlane near = NearPlane::before_bounds);
 
 // clip = mvp * vec4(p, 1): each row as ((m0 * x + m1 * y) + m2 * z) + m3, float32, unfused.
 std::array<float, 4> clip_position(const Mat4f& mvp, const glm::vec3& p);
@@ -41,7 +63,9 @@ std::array<float, 4> clip_position(const Mat4f& mvp, const glm::vec3& p);
 void window_position_d(const ViewSetup& vs, const glm::dvec3& p, int width, int height, double& x, double& y,
                        double& inv_w);
 
-// Eye-space position (view * vec4(p, 1)).xyz in double, for the CPU stage's per-face constants.
+// Eye-space position (view * vec4(p, 1)).xyz in double, for the CPU stage's per-face constants; eye_space takes the
+// offset d = p - eye instead.
 glm::dvec3 eye_position(const Camera& cam, const glm::dvec3& p);
+glm::dvec3 eye_space(const CameraFrame& frame, const glm::dvec3& d);
 
 }  // namespace uvr::gpu

@@ -5,7 +5,9 @@
 
 #include <glm/geometric.hpp>
 
+#include "box_mesh.h"
 #include "reference/builtin_mesh.h"
+#include "reference/camera.h"
 #include "reference/dataset.h"
 #include "reference/topology.h"
 #include "reference/transfer_function.h"
@@ -41,5 +43,28 @@ inline Scene plot3d(const char* xyz, const char* q, const std::string& field)
 inline Scene blunt_fin() { return plot3d("vtk-data/bluntfinxyz.bin", "vtk-data/bluntfinq.bin", ""); }
 // The Oxygen Post's first field (Density) is constant; StagnationEnergy varies.
 inline Scene oxygen_post() { return plot3d("vtk-data/postxyz.bin", "vtk-data/postq.bin", "StagnationEnergy"); }
+
+// A camera at `eye` looking at `target` with a wide field of view, for views from inside a mesh.
+inline Camera looking(const glm::dvec3& eye, const glm::dvec3& target, double fovy = 100.0)
+{
+    Camera cam;
+    cam.eye = eye;
+    cam.target = target;
+    cam.up = glm::dvec3(0.0, 1.0, 0.0) + glm::dvec3(0.0, 0.0, 0.1);
+    cam.fovy_deg = fovy;
+    return cam;
+}
+
+// A box [0, n]^3 of cells (box_mesh, inner points jittered) with the linear field of the reference's inside-camera
+// test (test_reference_analytic.cpp), so that a cut first segment's scalar is checked too, and a transfer function
+// that makes every ray's opacity large.
+inline Scene box_scene(int n, double jitter)
+{
+    Scene s = make_scene(box_mesh(n, [](const glm::dvec3& p) { return (p.x + 2.0 * p.y + 3.0 * p.z) / 36.0; }, jitter, 9),
+                         0);
+    s.tf.color = {{0.0, {1, 0, 0}}, {1.0, {0, 0, 1}}};
+    s.tf.extinction = {{0.0, 0.05}, {1.0, 0.6}};
+    return s;
+}
 
 }  // namespace uvr::test

@@ -4,48 +4,29 @@
 #include <tbb/global_control.h>
 
 #include "gpu/havs.h"
-#include "havs_scenes.h"
-#include "image_errors.h"
-#include "reference/reference_renderer.h"
+#include "havs_convergence.h"
 
 using namespace uvr;
 using namespace uvr::gpu;
 
 namespace {
 
-// Issue 4's convergence bar: exact segments, exact gaps, no early termination and k at least the largest fragment
-// count make HAVS compute the reference's integral, up to float32 fragment values and compositing.
-constexpr double kConvergenceRmse = 1e-5;
-constexpr double kConvergenceMax = 1e-4;
-
+using test::kConvergenceMax;
+using test::kConvergenceRmse;
 using Errors = test::ImageErrors;
-Errors compare(const Image& a, const Image& b) { return test::image_errors(a, b, kConvergenceMax); }
 
 using test::Scene;
 using test::make_scene;
 using test::plot3d;
 
-HavsOptions exact_options(int k)
-{
-    HavsOptions o;
-    o.k = k;
-    o.segment = SegmentMode::exact;
-    o.threshold = 1.0f;
-    return o;
-}
-
 // Renders HAVS (exact, k = kMaxK, no early termination) and the reference; requires k to cover every pixel.
 Errors converge(const Scene& s, const Camera& cam, int size)
 {
-    const HavsRenderer havs(s.mesh, s.topo, s.field, s.tf, exact_options(kMaxK));
-    const HavsFrame f = havs.render(cam, size, size);
-    INFO("largest fragment count " << f.stats.max_fragments);
-    REQUIRE(f.stats.max_fragments <= uint32_t(kMaxK));
-    CHECK(f.stats.ordering_errors == 0);
-    const RayIntegrator ri(s.mesh, s.topo, s.field, s.tf);
-    ReferenceStats rs;
-    const Image ref = render_reference(ri, cam, size, size, rs);
-    return compare(f.image, ref);
+    const test::HavsAndReference r = test::havs_and_reference(s, cam, size, size);
+    INFO("largest fragment count " << r.havs.stats.max_fragments);
+    REQUIRE(r.havs.stats.max_fragments <= uint32_t(kMaxK));
+    CHECK(r.havs.stats.ordering_errors == 0);
+    return r.errors;
 }
 
 }  // namespace
@@ -88,11 +69,11 @@ TEST_CASE("ordering errors are zero exactly where the image equals the fully sor
 {
     const Scene s = make_scene(load_builtin("builtin:torus-small"), 0);
     const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 20.0, 30.0);
-    const HavsFrame full = HavsRenderer(s.mesh, s.topo, s.field, s.tf, exact_options(kMaxK)).render(cam, 128, 128);
+    const HavsFrame full = HavsRenderer(s.mesh, s.topo, s.field, s.tf, test::exact_havs_options(kMaxK)).render(cam, 128, 128);
     REQUIRE(full.stats.ordering_errors == 0);
     uint64_t previous = UINT64_MAX;
     for (int k : {1, 2, 4, 8}) {
-        const HavsFrame f = HavsRenderer(s.mesh, s.topo, s.field, s.tf, exact_options(k)).render(cam, 128, 128);
+        const HavsFrame f = HavsRenderer(s.mesh, s.topo, s.field, s.tf, test::exact_havs_options(k)).render(cam, 128, 128);
         INFO("k = " << k << ": " << f.stats.ordering_errors << " ordering errors");
         CHECK(f.stats.ordering_errors <= previous);
         previous = f.stats.ordering_errors;
@@ -119,13 +100,13 @@ TEST_CASE("table mode: the error against exact integration shrinks as the table 
 {
     const Scene s = make_scene(load_builtin("builtin:torus-small"), 0);
     const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 10.0, 20.0);
-    HavsOptions o = exact_options(kMaxK);
+    HavsOptions o = test::exact_havs_options(kMaxK);
     const Image exact = HavsRenderer(s.mesh, s.topo, s.field, s.tf, o).render(cam, 128, 128).image;
     o.segment = SegmentMode::table;
     double previous = INFINITY;
     for (int n : {64, 128, 256}) {
         o.table_size = n;
-        const Errors e = compare(HavsRenderer(s.mesh, s.topo, s.field, s.tf, o).render(cam, 128, 128).image, exact);
+        const Errors e = test::image_errors(HavsRenderer(s.mesh, s.topo, s.field, s.tf, o).render(cam, 128, 128).image, exact);
         INFO("table " << n << ": RMSE " << e.rmse << ", max " << e.max_abs);
         CHECK(e.rmse < previous);
         previous = e.rmse;
@@ -143,21 +124,10 @@ TEST_CASE("the HAVS frame does not depend on the number of threads")
     CHECK(many.rgba == single.rgba);
 }
 
-TEST_CASE("HAVS refuses a camera inside the mesh's bounds with a clear error")
-{
-    // No near-plane clipping is emulated (docs/robustness.md), so such a frame would be wrong: refused instead.
-    const Scene s = make_scene(load_builtin("builtin:torus-small"), 0);
-    Camera cam;
-    cam.eye = mesh_bounds(s.mesh).center();
-    cam.target = cam.eye + glm::dvec3(1.0, 0.0, 0.0);
-    const HavsRenderer havs(s.mesh, s.topo, s.field, s.tf, HavsOptions{});
-    test::require_input_error([&] { havs.render(cam, 32, 32); }, {"camera is inside"});
-}
-
 TEST_CASE("far from the origin: HAVS on coordinates at 1e8 with features at 1e-3 still equals the reference")
 {
-    // The small torus moved to 1e8 and shrunk to features of 1e-3: the vertex buffer holds positions relative to the
-    // mesh's centre (view_setup's origin), as a GPU application would, so float keeps the features.
+    // The small torus moved to 1e8 and shrunk to features of 1e-3: the frame's vertex buffer holds positions relative
+    // to the eye (view_setup's origin), as a GPU application would, so float keeps the features.
     TetMesh mesh = load_builtin("builtin:torus-small");
     for (auto& p : mesh.points) p = glm::dvec3(1e8) + p * 1e-3;
     const Scene s = make_scene(std::move(mesh), 0);

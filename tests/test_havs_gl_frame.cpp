@@ -52,7 +52,9 @@ void require_identical(const Scene& s, const Camera& cam, int width, int height,
                     << " (GL), " << emu.stats.ordering_errors << " ordering errors");
         INFO(d.differing << " of " << d.pixels << " pixels differ; " << d.first);
         REQUIRE(emu.stats.fragments > 0);
-        if (faces_per_draw) CHECK(frame.stats.draws == (frame.stats.faces + faces_per_draw - 1) / faces_per_draw);
+        if (faces_per_draw) CHECK(frame.stats.draws == (frame.stats.triangles + faces_per_draw - 1) / faces_per_draw);
+        // The clip stage left the GPU nothing to clip: the draw module's own clipping would not match the emulation.
+        CHECK(emu.stats.gpu_clipped == 0);
         CHECK(d.differing == 0);
         CHECK(d.coverage_differs == 0);
         if (diagnostics) {
@@ -141,14 +143,58 @@ TEST_CASE("the GL HAVS frame converges to the reference as the table grows, as t
     }
 }
 
-TEST_CASE("HAVS on GL refuses a camera inside the mesh's bounds, and --segment exact, with clear errors")
+TEST_CASE("the GL HAVS frame equals the emulated frame bit for bit when the view cuts the mesh")
+{
+    // The clip stage's views (test_havs_clip.cpp): the near plane cuts the mesh, or the image's sides do. Without the
+    // clip stage the draw module would clip these faces in float, its own way.
+    const int kmax = GlHavsRenderer::max_k(osmesa().info(), true);
+    // The view must cut the mesh, or the test tests nothing new.
+    auto require_cuts = [](const Scene& s, const Camera& cam, bool near) {
+        const HavsFrame f = HavsRenderer(s.mesh, s.topo, s.field, s.tf, HavsOptions{}).render(cam, 64, 64);
+        CHECK(f.stats.clipped_faces > 0);
+        CHECK((f.stats.near_sections > 0) == near);
+    };
+    SECTION("a camera inside a cell, on a grid vertex, on a boundary face")
+    {
+        require_cuts(test::box_scene(6, 0.25), test::looking({2.3, 3.1, 2.7}, {6.0, 4.0, 5.0}), true);
+        require_identical(test::box_scene(6, 0.25), test::looking({2.3, 3.1, 2.7}, {6.0, 4.0, 5.0}), 96, 80,
+                          {1, 6, kmax});
+        require_identical(test::box_scene(6, 0.0), test::looking({3.0, 3.0, 3.0}, {6.0, 3.0, 3.0}), 96, 80, {6});
+        require_identical(test::box_scene(6, 0.0), test::looking({3.2, 2.9, 0.0}, {3.0, 3.0, 6.0}), 96, 80, {6});
+    }
+    SECTION("orthographic, the image plane inside the mesh")
+    {
+        Camera cam = test::looking({2.3, 3.1, 2.7}, {6.0, 4.0, 5.0});
+        cam.orthographic = true;
+        cam.ortho_height = 3.0;
+        require_cuts(test::box_scene(6, 0.25), cam, true);
+        require_identical(test::box_scene(6, 0.25), cam, 96, 80, {6});
+    }
+    SECTION("Blunt Fin from inside its flow region, in one draw and in many")
+    {
+        const Scene s = test::blunt_fin();
+        const Bounds b = mesh_bounds(s.mesh);
+        const Tet& t = s.mesh.tets[s.mesh.tets.size() / 2];
+        const glm::dvec3 eye =
+            0.25 * (s.mesh.points[t[0]] + s.mesh.points[t[1]] + s.mesh.points[t[2]] + s.mesh.points[t[3]]);
+        const Camera cam = test::looking(eye, b.center() + glm::dvec3(0.0, 0.0, 0.3 * b.extent().z), 70.0);
+        require_cuts(s, cam, true);
+        require_identical(s, cam, 160, 128, {1, 6, kmax});
+        require_identical(s, cam, 160, 128, {6}, true, osmesa(), 5000);
+    }
+    SECTION("the Oxygen Post, closer than its size: faces cross the image's sides")
+    {
+        const Scene s = test::oxygen_post();
+        Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 30.0, 10.0);
+        cam.eye = cam.target + 0.4 * (cam.eye - cam.target);
+        require_cuts(s, cam, false);
+        require_identical(s, cam, 128, 128, {6});
+    }
+}
+
+TEST_CASE("HAVS on GL refuses --segment exact with a clear error")
 {
     const Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
-    Camera cam;
-    cam.eye = mesh_bounds(s.mesh).center();
-    cam.target = cam.eye + glm::dvec3(1.0, 0.0, 0.0);
-    GlHavsRenderer gl(osmesa(), s.mesh, s.topo, s.field, s.tf, HavsOptions{});
-    test::require_input_error([&] { gl.render(cam, 32, 32); }, {"camera is inside"});
     HavsOptions exact;
     exact.segment = SegmentMode::exact;
     test::require_input_error([&] { GlHavsRenderer(osmesa(), s.mesh, s.topo, s.field, s.tf, exact); },

@@ -1,0 +1,77 @@
+// The clip stage: what llvmpipe's draw module does to a triangle that leaves the view frustum (draw_pipe_clip.c,
+// docs/rasterizer.md "Not emulated" 1), done instead on the CPU, in double, before the draw, so that the GPU never
+// clips anything and the emulation and the GL backend rasterize the same triangles.
+//
+// The CPU clips against planes a little inside the GPU's frustum (ClipPlanes): a quarter of a pixel inside each side
+// of the viewport, and kNearMargin inside the near plane. Every vertex the CPU keeps or makes then lies inside the
+// GPU's frustum after the float vertex stage too, by a wide margin: positions are relative to the eye (view_setup's
+// origin), so a clip coordinate carries a relative rounding error of about 1e-6 of w (five float roundings of terms
+// no larger than |w| / cos of the half field of view), against a margin of 0.5 / width of w at the sides (6e-5 at
+// 8192 pixels) and kNearMargin at the near plane. And no pixel centre is lost: centres lie half a pixel inside the
+// viewport, the planes a quarter pixel.
+//
+// Where a clipped edge crosses a plane is computed from the edge's two ends taken in a fixed order (crossing()), so two
+// faces that share an edge make the same vertex there, bit for bit, and the clipped mesh stays watertight.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "gpu/havs_vertex.h"
+
+namespace uvr::gpu {
+
+// How far inside the viewport's sides the CPU clips, in pixels: below the half pixel between the viewport's edge and
+// the nearest pixel centre, above the vertex stage's float rounding (see above).
+inline constexpr double kClipMarginPixels = 0.25;
+// How far inside the near plane the CPU clips: kNearMargin in normalized depth (havs_vertex.h).
+
+enum ClipPlane : int { kClipNear = 0, kClipLeft, kClipRight, kClipBottom, kClipTop, kClipPlaneCount };
+
+// The planes of the CPU's clipping: x >= -ax w, x <= ax w, y likewise with ay, z >= -az w. The far plane is never
+// crossed (view_setup puts it behind the mesh's bounds).
+struct ClipPlanes {
+    double ax = 1.0, ay = 1.0, az = 1.0;
+};
+ClipPlanes inner_clip_planes(int width, int height);
+
+// A vertex of a polygon being clipped: its position relative to the view's origin (the eye), its clip coordinates
+// (mvp_d * p, in double) and its normalized scalar.
+struct ClipVertex {
+    glm::dvec3 p{0.0};
+    glm::dvec4 c{0.0};
+    double s = 0.0;
+    uint32_t id = kNewVertex;  // the caller's index of the vertex, kept through clipping; kNewVertex for a crossing
+    static constexpr uint32_t kNewVertex = 0xFFFFFFFFu;
+};
+ClipVertex clip_vertex(const ViewSetup& vs, const glm::dvec3& p, double s);
+
+// The signed distance-like value of clip coordinates c to `plane` (>= 0: on the kept side).
+double plane_value(const ClipPlanes& planes, int plane, const glm::dvec4& c);
+// One bit per plane that c lies outside of (bit `plane` for plane_value < 0); 0 inside all.
+unsigned outcode(const ClipPlanes& planes, const glm::dvec4& c);
+
+// Where edge ab crosses `plane` (a and b on opposite sides of it): position and scalar interpolated in double from the
+// lexicographically smaller end, so the result does not depend on which end is a; an end that lies on the plane is
+// returned as it is.
+ClipVertex crossing(const ViewSetup& vs, const ClipPlanes& planes, int plane, const ClipVertex& a, const ClipVertex& b);
+
+// Clips the convex polygon `poly` (in order) against the planes from `first` on, near first (Sutherland–Hodgman,
+// keeping plane_value >= 0); `poly` becomes the clipped polygon, in the same orientation, or empty when nothing is
+// left. A near-plane section starts at kClipLeft: its vertices lie on the near plane, to the rounding.
+void clip_polygon(const ViewSetup& vs, const ClipPlanes& planes, std::vector<ClipVertex>& poly,
+                  std::vector<ClipVertex>& scratch, int first = kClipNear);
+
+// Whether the draw module would clip a vertex of these float clip coordinates (x, y or z outside [-w, w]).
+bool outside_gpu_frustum(const std::array<float, 4>& clip);
+
+// The polygon where the near plane cuts the tetrahedron with vertices v[0..3]: empty unless some vertex lies strictly
+// in front of the plane (plane_value < 0) and some not; otherwise 3 or 4 vertices, made by crossing() on the cut
+// edges, in cyclic order. Adjacent tetrahedra make the same vertices on the edges they share.
+void near_section(const ViewSetup& vs, const ClipPlanes& planes, const ClipVertex v[4], std::vector<ClipVertex>& poly);
+
+}  // namespace uvr::gpu
