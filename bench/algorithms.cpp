@@ -158,6 +158,9 @@ AlgoResult havs_result(gpu::HavsFrame f, const AlgoOptions& a, double ms)
     r.ms = ms;
     const auto& st = f.stats;
     r.stats = {{"k", a.k}, {"segment", a.segment}, {"gaps", a.gaps}, {"faces", st.faces},
+               {"clip", {{"triangles", st.triangles}, {"clipped_faces", st.clipped_faces},
+                         {"culled_faces", st.culled_faces}, {"near_sections", st.near_sections},
+                         {"gpu_clipped", st.gpu_clipped}}},
                {"stages_ms", {{"table", st.table_ms}, {"sort", st.sort_ms}, {"setup", st.setup_ms},
                               {"raster_fragment", st.raster_fragment_ms}, {"flush", st.flush_ms}}}};
     if (!f.fragments.empty()) {

@@ -15,7 +15,8 @@
 // (see RenderTarget).
 //
 // Not emulated (docs/rasterizer.md): the draw module's clipping of triangles that cross the frustum's side, near or far
-// planes (draw_pipe_clip.c), which replaces such a triangle by a fan of new ones; llvmpipe's "linear" path, taken only
+// planes (draw_pipe_clip.c), which replaces such a triangle by a fan of new ones (HAVS clips on the CPU first instead,
+// gpu/clip.h, so that the draw module never does); llvmpipe's "linear" path, taken only
 // for a single 8-bit BGRA colour buffer without depth buffer; multisampling; scissor rectangles.
 #pragma once
 

@@ -14,7 +14,7 @@
 // after.
 //
 // m_i is the face normal n_i = e_j x e_k of the face opposite vertex i divided by det = e1 . (e2 x e3), with e_i =
-// p_i - p0 in double (positions relative to the mesh's centre, as HAVS's vertex buffer). Each operation is written out
+// p_i - p0 in double (positions relative to the mesh's centre, VICP's vertex buffer). Each operation is written out
 // in a fixed order; the shader marks them `precise`.
 #pragma once
 
