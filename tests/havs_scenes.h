@@ -55,6 +55,15 @@ inline Camera looking(const glm::dvec3& eye, const glm::dvec3& target, double fo
     return cam;
 }
 
+// A view of a mesh from inside: from the centroid of its middle cell towards a point above its bounds' centre.
+inline Camera inside_view(const Scene& s)
+{
+    const Bounds b = mesh_bounds(s.mesh);
+    const Tet& t = s.mesh.tets[s.mesh.tets.size() / 2];
+    const glm::dvec3 eye = 0.25 * (s.mesh.points[t[0]] + s.mesh.points[t[1]] + s.mesh.points[t[2]] + s.mesh.points[t[3]]);
+    return looking(eye, b.center() + glm::dvec3(0.0, 0.0, 0.3 * b.extent().z), 70.0);
+}
+
 // A box [0, n]^3 of cells (box_mesh, inner points jittered) with the linear field of the reference's inside-camera
 // test (test_reference_analytic.cpp), so that a cut first segment's scalar is checked too, and a transfer function
 // that makes every ray's opacity large.

@@ -173,11 +173,7 @@ TEST_CASE("the GL HAVS frame equals the emulated frame bit for bit when the view
     SECTION("Blunt Fin from inside its flow region, in one draw and in many")
     {
         const Scene s = test::blunt_fin();
-        const Bounds b = mesh_bounds(s.mesh);
-        const Tet& t = s.mesh.tets[s.mesh.tets.size() / 2];
-        const glm::dvec3 eye =
-            0.25 * (s.mesh.points[t[0]] + s.mesh.points[t[1]] + s.mesh.points[t[2]] + s.mesh.points[t[3]]);
-        const Camera cam = test::looking(eye, b.center() + glm::dvec3(0.0, 0.0, 0.3 * b.extent().z), 70.0);
+        const Camera cam = test::inside_view(s);
         require_cuts(s, cam, true);
         require_identical(s, cam, 160, 128, {1, 6, kmax});
         require_identical(s, cam, 160, 128, {6}, true, osmesa(), 5000);
