@@ -50,7 +50,12 @@ inline constexpr double kNearPlane = 1e-6;
 // depth range, the GPU's plane is moved back instead, so that the clip stage's lies at the near distance.
 inline constexpr double kNearMargin = 1.0 / 4096.0;
 
-// The far plane encloses `bounds` seen from the camera (with a margin), the near plane as `near` says.
+// The far plane encloses `bounds` seen from the camera (with a margin), the near plane as `near` says (orthographic
+// with NearPlane::clipped, ViewSetup::near may be negative: see kNearMargin).
+// The matrices take points relative to `origin` (a model matrix's translation): the vertex buffer holds p - origin in
+// float, so that a mesh far from the world's origin (coordinates at 1e8, features at 1e-3) keeps its features, as a
+// GPU application would do it. HAVS passes the eye (its clip stage needs rounding in proportion to w, gpu/clip.h),
+// VICP the centre of the mesh's bounds.
 ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& bounds, const glm::dvec3& origin,
                      NearPlane near = NearPlane::before_bounds);
 
