@@ -87,10 +87,18 @@ namespace {
 // The clip stage's frame vertices: a mesh point stays itself, a crossing becomes a new frame vertex.
 class FrameVertices {
 public:
-    FrameVertices(const HavsMesh& hm, HavsFrameSetup& fs)
+    // points_outside: per mesh point, whether the GPU's frustum test would clip it.
+    FrameVertices(const HavsMesh& hm, HavsFrameSetup& fs, const std::vector<uint8_t>& points_outside)
         : fs_(fs), frame_(camera_frame(fs.camera)), fbuf_{fs.width, fs.height, RenderTarget::fbo},
-          points_(uint32_t(hm.mesh().points.size()))
+          points_(uint32_t(hm.mesh().points.size())), points_outside_(points_outside)
     {
+    }
+
+    // Draws triangle `id` (vertices v), counting it in gpu_clipped when the GPU would clip one of its vertices.
+    void draw(uint32_t id, const uint32_t* v)
+    {
+        fs_.draw.push_back(id);
+        if (gpu_outside(v[0]) || gpu_outside(v[1]) || gpu_outside(v[2])) ++fs_.gpu_clipped;
     }
 
     uint32_t add(const ClipVertex& v)
@@ -116,22 +124,25 @@ public:
         ids_.clear();
         for (const ClipVertex& v : poly) ids_.push_back(add(v));
         for (std::size_t i = 1; i + 1 < ids_.size(); ++i) {
-            fs_.draw.push_back(fs_.mesh_faces + uint32_t(fs_.extra_face.size()));
-            fs_.extra.insert(fs_.extra.end(), {ids_[0], ids_[i], ids_[i + 1]});
+            const uint32_t v[3] = {ids_[0], ids_[i], ids_[i + 1]};
+            const uint32_t id = fs_.mesh_faces + uint32_t(fs_.extra_face.size());
+            fs_.extra.insert(fs_.extra.end(), v, v + 3);
             fs_.extra_face.push_back(face);
+            draw(id, v);
         }
     }
 
-    bool gpu_outside(uint32_t v, const std::vector<uint8_t>& points_outside) const
+private:
+    bool gpu_outside(uint32_t v) const
     {
-        return v < points_ ? points_outside[v] != 0 : gpu_outside_[v - points_] != 0;
+        return v < points_ ? points_outside_[v] != 0 : gpu_outside_[v - points_] != 0;
     }
 
-private:
     HavsFrameSetup& fs_;
     CameraFrame frame_;
     Framebuffer fbuf_;
     uint32_t points_;
+    const std::vector<uint8_t>& points_outside_;
     std::vector<uint8_t> gpu_outside_;
     std::vector<uint32_t> ids_;
 };
@@ -187,7 +198,7 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
     // the faces in sorted order: inside every plane as they are, wholly outside one plane not at all, the others as
     // the fans of their clipped polygons.
     t0 = Clock::now();
-    FrameVertices frame_vertices(hm, fs);
+    FrameVertices frame_vertices(hm, fs, gpu_outside);
     auto clip_vertex_of = [&](uint32_t i) {
         ClipVertex v = clip_vertex(fs.view, mesh.points[i] - cam.eye, hm.scalar_n(i));
         v.id = i;
@@ -215,7 +226,7 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
         const unsigned any = codes[v[0]] | codes[v[1]] | codes[v[2]];
         const unsigned all = codes[v[0]] & codes[v[1]] & codes[v[2]];
         if (any == 0) {
-            fs.draw.push_back(f);
+            frame_vertices.draw(f, v);
         } else if (all != 0) {
             ++fs.culled_faces;
         } else {
@@ -224,14 +235,6 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
             clip_polygon(fs.view, planes, poly, poly_scratch);
             frame_vertices.draw_fan(poly, f);
         }
-    }
-    for (uint32_t id : fs.draw) {
-        const uint32_t* v = fs.triangle(hm, id);
-        for (int j = 0; j < 3; ++j)
-            if (frame_vertices.gpu_outside(v[j], gpu_outside)) {
-                ++fs.gpu_clipped;
-                break;
-            }
     }
     fs.clip_ms = ms_since(t0);
 

@@ -101,7 +101,7 @@ struct HavsFrameSetup {
     std::vector<glm::vec3> points_f;   // the vertex buffer: float positions relative to the eye
     std::vector<WindowCoord> win;      // what the rasterizer receives (float pipeline, FBO setup space)
     std::vector<glm::dvec3> win_d;     // x, y, 1 / w in double (the fragment stage's geometry)
-    std::vector<glm::dvec3> eye;       // eye-space position in double (eye_position)
+    std::vector<glm::dvec3> eye;       // eye-space position in double (eye_space)
     std::vector<double> extra_s;       // normalized scalars of the clip stage's vertices
     std::vector<uint32_t> extra;       // 3 frame vertices per extra triangle
     std::vector<uint32_t> extra_face;  // per extra triangle: the mesh face it lies on, or kNearSection
@@ -110,7 +110,7 @@ struct HavsFrameSetup {
     uint64_t clipped_faces = 0;        // faces that crossed a plane and were drawn as clipped fans
     uint64_t culled_faces = 0;         // faces wholly outside one plane, not drawn
     uint64_t near_sections = 0;        // cells cut by the near plane, drawn through their sections
-    uint64_t gpu_clipped = 0;          // drawn vertices the GPU's frustum test would still clip (expected 0)
+    uint64_t gpu_clipped = 0;          // drawn triangles with a vertex the GPU's frustum test would clip (expected 0)
     double sort_ms = 0.0, vertex_ms = 0.0, clip_ms = 0.0;
 
     // The three frame vertices of draw id `id`.

@@ -53,7 +53,6 @@ glm::dvec3 eye_space(const CameraFrame& fr, const glm::dvec3& d)
     return {glm::dot(fr.r, d), glm::dot(fr.u, d), -glm::dot(fr.f, d)};
 }
 
-glm::dvec3 eye_position(const Camera& cam, const glm::dvec3& p) { return eye_space(camera_frame(cam), p - cam.eye); }
 
 ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, const glm::dvec3& origin,
                      NearPlane near)
@@ -102,7 +101,7 @@ ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, 
     }
     const Mat4d v = view_matrix(cam, origin);
     const Mat4d mvp = multiply(p, v);
-    return {to_float(v), to_float(p), to_float(mvp), mvp, n, f, near_cuts};
+    return {to_float(v), to_float(p), to_float(mvp), mvp, near_cuts};
 }
 
 void window_position_d(const ViewSetup& vs, const glm::dvec3& p, int width, int height, double& x, double& y,

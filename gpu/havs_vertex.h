@@ -23,7 +23,6 @@ struct ViewSetup {
     Mat4f projection;  // eye -> clip (OpenGL conventions, depth in [-1, 1])
     Mat4f mvp;         // projection * view, multiplied in double before rounding
     std::array<std::array<double, 4>, 4> mvp_d;  // the same in double (the fragment stage's exact geometry)
-    double near = 0.0, far = 0.0;                // the planes' distances along the view direction
     bool near_cuts = false;  // NearPlane::clipped put the near plane in front of part of the bounds
 };
 
@@ -50,8 +49,7 @@ inline constexpr double kNearPlane = 1e-6;
 // depth range, the GPU's plane is moved back instead, so that the clip stage's lies at the near distance.
 inline constexpr double kNearMargin = 1.0 / 4096.0;
 
-// The far plane encloses `bounds` seen from the camera (with a margin), the near plane as `near` says (orthographic
-// with NearPlane::clipped, ViewSetup::near may be negative: see kNearMargin).
+// The far plane encloses `bounds` seen from the camera (with a margin), the near plane as `near` says.
 // The matrices take points relative to `origin` (a model matrix's translation): the vertex buffer holds p - origin in
 // float, so that a mesh far from the world's origin (coordinates at 1e8, features at 1e-3) keeps its features, as a
 // GPU application would do it. HAVS passes the eye (its clip stage needs rounding in proportion to w, gpu/clip.h),
@@ -68,9 +66,8 @@ std::array<float, 4> clip_position(const Mat4f& mvp, const glm::vec3& p);
 void window_position_d(const ViewSetup& vs, const glm::dvec3& p, int width, int height, double& x, double& y,
                        double& inv_w);
 
-// Eye-space position (view * vec4(p, 1)).xyz in double, for the CPU stage's per-face constants; eye_space takes the
-// offset d = p - eye instead.
-glm::dvec3 eye_position(const Camera& cam, const glm::dvec3& p);
+// Eye-space position (view * vec4(p, 1)).xyz in double of the point at offset d = p - eye, for the CPU stage's
+// per-face constants.
 glm::dvec3 eye_space(const CameraFrame& frame, const glm::dvec3& d);
 
 }  // namespace uvr::gpu
