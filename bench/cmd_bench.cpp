@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <thread>
@@ -64,6 +65,42 @@ double peak_rss_mib()
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
+// The measured frames of one GPU algorithm's benchmark: each frame's wall time, each named stage's time, and the
+// last frame's statistics.
+template <class Stats>
+struct TimedFrames {
+    std::vector<double> frame_ms;
+    std::map<std::string, std::vector<double>> stage_ms;
+    Stats last{};
+
+    double stage_median(const std::string& name) const { return median(stage_ms.at(name)); }
+    nlohmann::json stage_medians() const
+    {
+        nlohmann::json j;
+        for (const auto& [name, v] : stage_ms) j[name] = median(v);
+        return j;
+    }
+};
+
+// Renders warmup + repeat frames with `render(camera, width, height)`; of each frame after the warm-up keeps its wall
+// time and the stage times `stages(stats)` names (pairs of name and milliseconds).
+template <class Render, class Stages>
+auto time_frames(const Scene& s, const BenchArgs& a, Render&& render, Stages&& stages)
+{
+    using Stats = decltype(render(s.camera, s.width, s.height).stats);
+    TimedFrames<Stats> t;
+    for (int r = 0; r < a.warmup + a.repeat; ++r) {
+        const auto f0 = Clock::now();
+        const auto f = render(s.camera, s.width, s.height);
+        const double ms = ms_since(f0);
+        if (r < a.warmup) continue;
+        t.frame_ms.push_back(ms);
+        for (const auto& [name, stage] : stages(f.stats)) t.stage_ms[name].push_back(stage);
+        t.last = f.stats;
+    }
+    return t;
+}
+
 nlohmann::json bench_reference(const Scene& s, const BenchArgs& a)
 {
     std::vector<double> setup_ms, frame_ms;
@@ -104,37 +141,26 @@ nlohmann::json bench_reference(const Scene& s, const BenchArgs& a)
 template <class Render>
 nlohmann::json bench_havs_frames(const Scene& s, const BenchArgs& a, Render&& render)
 {
-    std::vector<double> frame_ms, sort_ms, setup_ms, raster_ms, flush_ms, readback_ms;
-    gpu::HavsStats last;
-    for (int r = 0; r < a.warmup + a.repeat; ++r) {
-        const auto f0 = Clock::now();
-        const gpu::HavsFrame f = render(s.camera, s.width, s.height);
-        const double ms = ms_since(f0);
-        if (r < a.warmup) continue;
-        frame_ms.push_back(ms);
-        sort_ms.push_back(f.stats.sort_ms);
-        setup_ms.push_back(f.stats.setup_ms);
-        raster_ms.push_back(f.stats.raster_fragment_ms);
-        flush_ms.push_back(f.stats.flush_ms);
-        readback_ms.push_back(f.stats.readback_ms);
-        last = f.stats;
-    }
-    const double fm = median(frame_ms);
+    const auto t = time_frames(s, a, render, [](const gpu::HavsStats& st) {
+        return std::vector<std::pair<std::string, double>>{{"sort", st.sort_ms},
+                                                           {"vertex_and_setup", st.setup_ms},
+                                                           {"raster_and_fragment", st.raster_fragment_ms},
+                                                           {"flush", st.flush_ms},
+                                                           {"readback", st.readback_ms}};
+    });
+    const gpu::HavsStats& last = t.last;
+    const double fm = median(t.frame_ms);
     nlohmann::json j;
     j["algo"] = "havs";
     j["k"] = a.k;
     j["frame_ms"] = fm;
-    j["frame_ms_all"] = frame_ms;
-    j["stages"] = {{"sort", median(sort_ms)},
-                   {"vertex_and_setup", median(setup_ms)},
-                   {"raster_and_fragment", median(raster_ms)},
-                   {"flush", median(flush_ms)},
-                   {"readback", median(readback_ms)}};
+    j["frame_ms_all"] = t.frame_ms;
+    j["stages"] = t.stage_medians();
     j["faces"] = last.faces;
     j["tetrahedra_per_s"] = double(s.mesh().tets.size()) / (fm / 1000.0);
     if (last.fragments) {
         j["fragments"] = last.fragments;
-        j["fragments_per_s"] = double(last.fragments) / (median(raster_ms) / 1000.0);
+        j["fragments_per_s"] = double(last.fragments) / (t.stage_median("raster_and_fragment") / 1000.0);
         j["ordering_errors"] = last.ordering_errors;
     }
     return j;
@@ -181,40 +207,30 @@ nlohmann::json bench_vicp(const Scene& s, const BenchArgs& a, const std::string&
     }
     const gpu::VicpMesh& vm = emu ? emu->cpu_stage() : gl->cpu_stage();
     const double build_ms = ms_since(t0);
-    std::vector<double> frame_ms, sort_ms, project_ms, setup_ms, raster_ms, readback_ms;
-    gpu::VicpStats last;
-    for (int r = 0; r < a.warmup + a.repeat; ++r) {
-        const auto f0 = Clock::now();
-        const gpu::VicpFrame f =
-            emu ? emu->render(s.camera, s.width, s.height) : gl->render(s.camera, s.width, s.height);
-        const double ms = ms_since(f0);
-        if (r < a.warmup) continue;
-        frame_ms.push_back(ms);
-        sort_ms.push_back(f.stats.sort_ms);
-        project_ms.push_back(f.stats.project_ms);
-        setup_ms.push_back(f.stats.setup_ms);
-        raster_ms.push_back(f.stats.raster_fragment_ms);
-        readback_ms.push_back(f.stats.readback_ms);
-        last = f.stats;
-    }
-    const double fm = median(frame_ms);
+    const auto t = time_frames(
+        s, a, [&](const Camera& c, int w, int h) { return emu ? emu->render(c, w, h) : gl->render(c, w, h); },
+        [](const gpu::VicpStats& st) {
+            return std::vector<std::pair<std::string, double>>{{"sort", st.sort_ms},
+                                                               {"project", st.project_ms},
+                                                               {"vertex_and_setup", st.setup_ms},
+                                                               {"raster_and_fragment", st.raster_fragment_ms},
+                                                               {"readback", st.readback_ms}};
+        });
+    const gpu::VicpStats& last = t.last;
+    const double fm = median(t.frame_ms);
     nlohmann::json j;
     j["algo"] = "vicp";
     j["backend"] = backend;
     if (ctx) j["gl"] = ctx->info().summary();
     j["order"] = order;
     j["frame_ms"] = fm;
-    j["frame_ms_all"] = frame_ms;
+    j["frame_ms_all"] = t.frame_ms;
     j["build_ms"] = build_ms;
-    j["stages"] = {{"sort", median(sort_ms)},
-                   {"project", median(project_ms)},
-                   {"vertex_and_setup", median(setup_ms)},
-                   {"raster_and_fragment", median(raster_ms)},
-                   {"readback", median(readback_ms)}};
+    j["stages"] = t.stage_medians();
     j["cells"] = last.cells;
     j["tetrahedra_per_s"] = double(s.mesh().tets.size()) / (fm / 1000.0);
     j["fragments"] = last.fragments;
-    j["fragments_per_s"] = double(last.fragments) / (median(raster_ms) / 1000.0);
+    j["fragments_per_s"] = double(last.fragments) / (t.stage_median("raster_and_fragment") / 1000.0);
     j["ordering_errors"] = last.ordering_errors;
     j["cycle_breaks"] = last.order.cycle_breaks;
     j["bytes_sent_per_tet"] = gpu::vicp_sent_bytes_per_cell(vm);
@@ -240,20 +256,12 @@ nlohmann::json bench_raycast(const Scene& s, const BenchArgs& a, bool preintegra
     }
     const gpu::RaycastVolume& rv = emu ? emu->cpu_stage() : gl->cpu_stage();
     const double build_ms = ms_since(t0);
-    std::vector<double> frame_ms, setup_ms, march_ms, readback_ms;
-    gpu::RaycastStats last;
-    for (int r = 0; r < a.warmup + a.repeat; ++r) {
-        const auto f0 = Clock::now();
-        const gpu::RaycastFrame f =
-            emu ? emu->render(s.camera, s.width, s.height) : gl->render(s.camera, s.width, s.height);
-        const double ms = ms_since(f0);
-        if (r < a.warmup) continue;
-        frame_ms.push_back(ms);
-        setup_ms.push_back(f.stats.setup_ms);
-        march_ms.push_back(f.stats.march_ms);
-        readback_ms.push_back(f.stats.readback_ms);
-        last = f.stats;
-    }
+    const auto t = time_frames(
+        s, a, [&](const Camera& c, int w, int h) { return emu ? emu->render(c, w, h) : gl->render(c, w, h); },
+        [](const gpu::RaycastStats& st) {
+            return std::vector<std::pair<std::string, double>>{
+                {"setup", st.setup_ms}, {"march", st.march_ms}, {"readback", st.readback_ms}};
+        });
     nlohmann::json j;
     j["algo"] = "raycast";
     j["backend"] = backend;
@@ -261,12 +269,12 @@ nlohmann::json bench_raycast(const Scene& s, const BenchArgs& a, bool preintegra
     j["classification"] = preintegrate ? "pre-integrated" : "post";
     j["step"] = rv.options().step;
     j["volume_format"] = gpu::texel_format_name(rv.texel_format());
-    j["frame_ms"] = median(frame_ms);
-    j["frame_ms_all"] = frame_ms;
+    j["frame_ms"] = median(t.frame_ms);
+    j["frame_ms_all"] = t.frame_ms;
     j["build_ms"] = build_ms;
-    j["stages"] = {{"setup", median(setup_ms)}, {"march", median(march_ms)}, {"readback", median(readback_ms)}};
-    j["samples"] = last.samples;
-    j["samples_per_s"] = double(last.samples) / (median(march_ms) / 1000.0);
+    j["stages"] = t.stage_medians();
+    j["samples"] = t.last.samples;
+    j["samples_per_s"] = double(t.last.samples) / (t.stage_median("march") / 1000.0);
     j["texture_bytes"] = rv.texture_bytes();
     return j;
 }
