@@ -213,6 +213,9 @@ AlgoResult vicp_result(gpu::VicpFrame f, const gpu::VicpMesh& vm, const AlgoOpti
                {"face_dependencies", st.order.face_dependencies},
                {"ray_dependencies", st.order.ray_dependencies},
                {"bytes_sent_per_tet", gpu::vicp_sent_bytes_per_cell(vm)},
+               {"clip", {{"clipped_cells", st.clipped_cells}, {"culled_cells", st.culled_cells},
+                         {"near_sections", st.near_sections}, {"fan_triangles", st.fan_triangles},
+                         {"gpu_clipped", st.gpu_clipped}}},
                {"stages_ms", {{"table", st.table_ms}, {"sort", st.sort_ms}, {"project", st.project_ms},
                               {"setup", st.setup_ms}, {"raster_fragment", st.raster_fragment_ms}}}};
     r.image = std::move(f.image);

@@ -54,6 +54,7 @@ GlPlatform parse_gl_platform(const std::string& name);        // throws InputErr
     X(PFNGLUSEPROGRAMPROC, UseProgram)                                                                              \
     X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                                              \
     X(PFNGLUNIFORM1IPROC, Uniform1i)                                                                                \
+    X(PFNGLUNIFORM1UIPROC, Uniform1ui)                                                                              \
     X(PFNGLUNIFORM1FPROC, Uniform1f)                                                                                \
     X(PFNGLUNIFORM1DPROC, Uniform1d)                                                                                \
     X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                                                                  \
@@ -64,6 +65,7 @@ GlPlatform parse_gl_platform(const std::string& name);        // throws InputErr
     X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                                                    \
     X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                                              \
     X(PFNGLDRAWARRAYSPROC, DrawArrays)                                                                              \
+    X(PFNGLMULTIDRAWARRAYSPROC, MultiDrawArrays)                                                                    \
     X(PFNGLGENTEXTURESPROC, GenTextures)                                                                            \
     X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                                                      \
     X(PFNGLBINDTEXTUREPROC, BindTexture)                                                                            \

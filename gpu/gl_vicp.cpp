@@ -20,7 +20,7 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 constexpr const char* kFramebufferFetch = "GL_EXT_shader_framebuffer_fetch";
 
 // The storage buffers of shaders/vicp.vert, by binding.
-enum Binding : GLuint { kStream = 0, kPointsF = 1, kPointsD = 2, kScalars = 3, kSnapped = 4, kBindings = 5 };
+enum Binding : GLuint { kStream = 0, kPointsF = 1, kPointsD = 2, kScalars = 3, kSnapped = 4, kFans = 5, kBindings = 6 };
 
 static_assert(sizeof(VicpCell) == 5 * sizeof(uint32_t), "shaders/vicp.vert reads a VicpCell as five uints");
 
@@ -104,10 +104,8 @@ GlVicpRenderer::GlVicpRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     gl.GenVertexArrays(1, &gl_->vao);
     gl.GenBuffers(kBindings, gl_->buffers);
     // The resident per-point arrays, three values (or one) a point, packed as the shader reads them.
-    const auto& pf = mesh_.points_f();
     const auto& pd = mesh_.points_d();
     const auto& sn = mesh_.scalars_n();
-    gl_->upload(kPointsF, pf.data(), pf.size() * sizeof(glm::vec3), GL_STATIC_DRAW);
     gl_->upload(kPointsD, pd.data(), pd.size() * sizeof(glm::dvec3), GL_STATIC_DRAW);
     gl_->upload(kScalars, sn.data(), sn.size() * sizeof(double), GL_STATIC_DRAW);
     upload_preintegration_table(ctx_, *mesh_.table(), mesh_.options().filter, gl_->table_texture);
@@ -139,14 +137,24 @@ VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
     st.sort_ms = fs.sort_ms;
     st.project_ms = fs.project_ms;
 
+    store_clip_stats(fs, st);
+
     auto t0 = Clock::now();
+    // The frame's vertex buffer (with the clip stage's vertices) is read at any index by every draw.
+    if (double(fs.points_f.size()) * sizeof(glm::vec3) > double(max_block_bytes(ctx_)))
+        throw InputError(mesh_.mesh().source, "the frame's " + std::to_string(fs.points_f.size()) +
+                                                  " vertices exceed one storage block on " + ctx_.info().renderer +
+                                                  "; use --backend emu");
+    gl_->upload(kPointsF, fs.points_f.data(), fs.points_f.size() * sizeof(glm::vec3), GL_STREAM_DRAW);
     gl_->upload(kSnapped, fs.snapped.data(), fs.snapped.size() * sizeof(glm::dvec3), GL_STREAM_DRAW);
     gl_->framebuffer->bind(width, height);
     gl.Disable(GL_BLEND);
     gl.Disable(GL_DEPTH_TEST);
-    // Only the faces the eye sees from outside a cell make fragments (the emulation's Facing::front).
-    gl.Enable(GL_CULL_FACE);
-    gl.CullFace(GL_BACK);
+    // Only the faces the eye sees from outside a cell make fragments (the emulation's Facing::front): not by
+    // glCullFace, whose draw-module stage culls slivers on a float determinant that can disagree with the fixed-point
+    // area llvmpipe's setup goes by (docs/rasterizer.md, "Not emulated" 2), but by the fragment program, which
+    // discards the fragments of back faces on gl_FrontFacing, the setup's own facing (shaders/vicp.frag).
+    gl.Disable(GL_CULL_FACE);
     gl.FrontFace(GL_CCW);
     gl.ProvokingVertex(GL_LAST_VERTEX_CONVENTION);  // the vertex that computes the flat constants (vicp.vert)
     const float zero[4] = {0, 0, 0, 0};
@@ -155,19 +163,59 @@ VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
     gl.UseProgram(gl_->program->id());
     set_vicp_frame_uniforms(ctx_, *gl_->program, fs.constants);
     gl.UniformMatrix4fv(gl_->program->uniform("vicp_mvp", true), 1, GL_FALSE, &fs.view.mvp[0][0]);
+    const GLint whole_vertices = gl_->program->uniform("vicp_whole_vertices", true);
+    const GLint slot_base = gl_->program->uniform("vicp_slot_base", true);
     gl.BindVertexArray(gl_->vao);
     ctx_.check_error("preparing the VICP draw");
     st.setup_ms = fs.vertex_ms + ms_since(t0);
 
-    // The stream in order, as few draws as the storage block size allows (GL keeps primitive order across draws).
+    // The stream in order, as few chunks as the storage block size allows (GL keeps primitive order across draws),
+    // each one multi-draw: runs of whole cells, and the cut cells' fans in their places.
     const std::size_t chunk = cells_per_draw();
+    std::size_t cut = 0;  // the first cut cell not drawn yet
+    std::vector<GLint> firsts;
+    std::vector<GLsizei> sizes;
     for (std::size_t c0 = 0; c0 < stream.size(); c0 += chunk) {
         const std::size_t n = std::min(chunk, stream.size() - c0);
         t0 = Clock::now();
         gl_->upload(kStream, stream.data() + c0, n * sizeof(VicpCell), GL_STREAM_DRAW);
+        // The chunk's cut cells and their fans; the fans' vertex IDs start after the whole cells'.
+        const std::size_t cut_end = std::lower_bound(fs.cuts.begin() + std::ptrdiff_t(cut), fs.cuts.end(), c0 + n,
+                                                     [](const VicpCut& c, std::size_t s) { return c.slot < s; }) -
+                                    fs.cuts.begin();
+        const std::size_t fan0 = cut < cut_end ? fs.cuts[cut].first : 0;
+        const std::size_t fan1 = cut < cut_end ? fs.cuts[cut_end - 1].first + fs.cuts[cut_end - 1].count : 0;
+        const uint32_t empty[4] = {0, 0, 0, 0};  // a buffer is never empty
+        if (fan1 > fan0)
+            gl_->upload(kFans, fs.fans.data() + 4 * fan0, (fan1 - fan0) * 4 * sizeof(uint32_t), GL_STREAM_DRAW);
+        else
+            gl_->upload(kFans, empty, sizeof empty, GL_STREAM_DRAW);
+        const GLint fan_base = GLint(kVicpVerticesPerTet * n);
+        firsts.clear();
+        sizes.clear();
+        std::size_t run = c0;  // the first whole cell not drawn yet
+        for (; cut < cut_end; ++cut) {
+            const VicpCut& c = fs.cuts[cut];
+            if (c.slot > run) {
+                firsts.push_back(GLint(kVicpVerticesPerTet * (run - c0)));
+                sizes.push_back(GLsizei(kVicpVerticesPerTet * (c.slot - run)));
+            }
+            if (c.count) {
+                firsts.push_back(fan_base + GLint(3 * (c.first - fan0)));
+                sizes.push_back(GLsizei(3 * c.count));
+            }
+            run = c.slot + 1;
+        }
+        if (c0 + n > run) {
+            firsts.push_back(GLint(kVicpVerticesPerTet * (run - c0)));
+            sizes.push_back(GLsizei(kVicpVerticesPerTet * (c0 + n - run)));
+        }
+        gl.Uniform1i(whole_vertices, fan_base);
+        gl.Uniform1ui(slot_base, GLuint(c0));
         st.setup_ms += ms_since(t0);
         t0 = Clock::now();
-        gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(n * kVicpVerticesPerTet));
+        if (firsts.size() == 1) gl.DrawArrays(GL_TRIANGLES, firsts[0], sizes[0]);
+        else if (!firsts.empty()) gl.MultiDrawArrays(GL_TRIANGLES, firsts.data(), sizes.data(), GLsizei(firsts.size()));
         st.raster_fragment_ms += ms_since(t0);
         ++st.draws;
     }
@@ -175,7 +223,6 @@ VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
     gl.Finish();
     ctx_.check_error("the VICP draw");
     st.raster_fragment_ms += ms_since(t0);
-    gl.Disable(GL_CULL_FACE);
     gl.BindVertexArray(0);
 
     t0 = Clock::now();

@@ -4,9 +4,11 @@
 // faces culled, and runs shaders/vicp.frag (the fragment program: the segment, compositing front to back through
 // GL_EXT_shader_framebuffer_fetch) on every fragment. docs/vicp.md.
 //
-// Resident on the GPU (uploaded once): float and double positions and normalized scalars per point, and the table.
-// Per frame: ProjectTet's stream (VicpCell, 20 bytes a cell) and the snapped points (24 bytes a point), in storage
-// buffers; one glDrawArrays per chunk of the stream (as many cells as GL_MAX_SHADER_STORAGE_BLOCK_SIZE holds).
+// Resident on the GPU (uploaded once): double positions and normalized scalars per point, and the table. Per frame:
+// ProjectTet's stream (VicpCell, 20 bytes a cell), the snapped points (24 bytes a point), the vertex buffer (float
+// positions relative to the eye, 12 bytes a point, with the clip stage's vertices) and the clip stage's fans, in
+// storage buffers; one glMultiDrawArrays per chunk of the stream (as many cells as GL_MAX_SHADER_STORAGE_BLOCK_SIZE
+// holds): runs of whole cells, and the fans of the cells the view cuts in their places (shaders/vicp.vert).
 #pragma once
 
 #include <memory>

@@ -175,7 +175,7 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
 
     // The vertex stage for every point, and which planes of the clip stage each point lies outside of.
     t0 = Clock::now();
-    fs.view = view_setup(cam, width, height, mesh_bounds(mesh), cam.eye, NearPlane::clipped);
+    fs.view = view_setup(cam, width, height, mesh_bounds(mesh), cam.eye);
     const ClipPlanes planes = inner_clip_planes(width, height);
     const CameraFrame frame = camera_frame(cam);
     const Framebuffer fbuf{width, height, RenderTarget::fbo};

@@ -5,7 +5,6 @@
 
 #include <glm/geometric.hpp>
 
-#include "reference/error.h"
 
 namespace uvr::gpu {
 
@@ -54,8 +53,7 @@ glm::dvec3 eye_space(const CameraFrame& fr, const glm::dvec3& d)
 }
 
 
-ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, const glm::dvec3& origin,
-                     NearPlane near)
+ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, const glm::dvec3& origin)
 {
     // Depth range: the bounds' corners along the view direction, widened by 1 % of the bounds' size.
     const CameraFrame fr = camera_frame(cam);
@@ -69,13 +67,11 @@ ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, 
     const double margin = 0.01 * glm::length(b.extent()) + 1e-9;
     double n = zmin - margin, f = zmax + margin;
     bool near_cuts = false;
-    if (near == NearPlane::clipped) {
-        const double floor = kNearPlane * glm::length(b.extent());
-        if (!(n >= floor)) {
-            n = floor;
-            near_cuts = true;
-            f = std::max(f, n + margin);
-        }
+    const double floor = kNearPlane * glm::length(b.extent());
+    if (!(n >= floor)) {
+        n = floor;
+        near_cuts = true;
+        f = std::max(f, n + margin);
     }
     Mat4d p{};
     const double aspect = double(width) / double(height);
@@ -89,9 +85,6 @@ ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, 
         p[3][2] = -(f + n) / (f - n);
         p[3][3] = 1.0;
     } else {
-        if (near == NearPlane::before_bounds && !(n > 1e-6 * (f > 0 ? f : 1.0)))
-            throw InputError("", "the camera is inside or too close to the mesh's bounds: VICP needs the mesh in "
-                                 "front of the eye (the draw module's near-plane clipping is not emulated for it)");
         const double t = 1.0 / std::tan(0.5 * cam.fovy_deg * 3.14159265358979323846 / 180.0);
         p[0][0] = t / aspect;
         p[1][1] = t;

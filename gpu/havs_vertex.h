@@ -23,23 +23,12 @@ struct ViewSetup {
     Mat4f projection;  // eye -> clip (OpenGL conventions, depth in [-1, 1])
     Mat4f mvp;         // projection * view, multiplied in double before rounding
     std::array<std::array<double, 4>, 4> mvp_d;  // the same in double (the fragment stage's exact geometry)
-    bool near_cuts = false;  // NearPlane::clipped put the near plane in front of part of the bounds
+    bool near_cuts = false;  // the near plane lies in front of part of the bounds: the clip stage cuts there
 };
 
-// Where the near plane goes.
-enum class NearPlane {
-    // In front of the whole bounds (with a margin), so the draw module never clips a face in depth. Throws InputError
-    // when a perspective eye is inside or too close to the bounds for that (VICP).
-    before_bounds,
-    // As before_bounds where the bounds allow it, else kNearPlane times the bounds' diagonal in front of the eye; what
-    // lies nearer is then clipped on the CPU (gpu/clip.h) before the draw (HAVS). Orthographic views too: rays start
-    // on the image plane, and nothing behind it may be drawn.
-    clipped,
-};
-
-// The near distance of NearPlane::clipped, as a fraction of the bounds' diagonal: the ray from the eye is integrated
-// from there on, so a camera inside the mesh misses the first 1e-6 of the diagonal (an opacity of at most the
-// extinction times that). Not smaller, so that the near plane stays far above the double rounding of the clip
+// The near distance when the eye is inside or close to the bounds, as a fraction of the bounds' diagonal. HAVS
+// integrates the ray from there on, so a camera inside the mesh misses the first 1e-6 of the diagonal (an opacity of at
+// most the extinction times that); VICP integrates from the eye, but a cell wholly nearer than this is not drawn. Not smaller, so that the near plane stays far above the double rounding of the clip
 // coordinates of points a diagonal away.
 inline constexpr double kNearPlane = 1e-6;
 
@@ -49,13 +38,15 @@ inline constexpr double kNearPlane = 1e-6;
 // depth range, the GPU's plane is moved back instead, so that the clip stage's lies at the near distance.
 inline constexpr double kNearMargin = 1.0 / 4096.0;
 
-// The far plane encloses `bounds` seen from the camera (with a margin), the near plane as `near` says.
+// The far plane encloses `bounds` seen from the camera (with a margin). The near plane lies in front of the whole
+// bounds (with a margin) where they allow it, else kNearPlane times the bounds' diagonal in front of the eye; what lies
+// nearer is then clipped on the CPU (gpu/clip.h) before the draw. Orthographic views too: rays start on the image
+// plane, and nothing behind it may be drawn.
 // The matrices take points relative to `origin` (a model matrix's translation): the vertex buffer holds p - origin in
 // float, so that a mesh far from the world's origin (coordinates at 1e8, features at 1e-3) keeps its features, as a
-// GPU application would do it. HAVS passes the eye (its clip stage needs rounding in proportion to w, gpu/clip.h),
-// VICP the centre of the mesh's bounds.
-ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& bounds, const glm::dvec3& origin,
-                     NearPlane near = NearPlane::before_bounds);
+// GPU application would do it. HAVS and VICP pass the eye (the clip stage needs rounding in proportion to w,
+// gpu/clip.h).
+ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& bounds, const glm::dvec3& origin);
 
 // clip = mvp * vec4(p, 1): each row as ((m0 * x + m1 * y) + m2 * z) + m3, float32, unfused.
 std::array<float, 4> clip_position(const Mat4f& mvp, const glm::vec3& p);

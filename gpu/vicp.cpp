@@ -38,6 +38,15 @@ void store_vicp_frame(const std::vector<glm::vec4>& colour, const std::vector<Vi
     });
 }
 
+void store_clip_stats(const VicpFrameSetup& fs, VicpStats& st)
+{
+    st.clipped_cells = fs.clipped_cells;
+    st.culled_cells = fs.culled_cells;
+    st.near_sections = fs.near_sections;
+    st.fan_triangles = fs.fan_triangles();
+    st.gpu_clipped = fs.gpu_clipped;
+}
+
 VicpRenderer::VicpRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
                            const TransferFunction& tf, const VicpOptions& options)
     : mesh_(mesh, topo, field, tf, options)
@@ -59,12 +68,32 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
     st.order = fs.order_stats;
     st.sort_ms = fs.sort_ms;
     st.project_ms = fs.project_ms;
+    store_clip_stats(fs, st);
     const Framebuffer fbuf{width, height, RenderTarget::fbo};
 
-    // Bin the stream's cells into screen tiles by the bounding boxes of their four points.
+    // Bin the stream's cells into screen tiles by the bounding boxes of the points they are drawn with: their four
+    // points, or their fans' vertices for the cells the view cuts.
     auto t0 = Clock::now();
+    constexpr uint32_t kWholeCell = UINT32_MAX;
+    std::vector<uint32_t> cut_of_slot;  // per slot, when the view cuts cells: its index in fs.cuts, or kWholeCell
+    if (!fs.cuts.empty()) {
+        cut_of_slot.assign(stream.size(), kWholeCell);
+        for (uint32_t i = 0; i < fs.cuts.size(); ++i) cut_of_slot[fs.cuts[i].slot] = i;
+    }
+    const auto cut_index = [&](uint32_t slot) { return cut_of_slot.empty() ? kWholeCell : cut_of_slot[slot]; };
     ScreenTiles tiles(width, height);
-    for (uint32_t slot = 0; slot < stream.size(); ++slot) tiles.add(slot, win, stream[slot].v.data(), 4);
+    std::vector<uint32_t> fan_vertices;
+    for (uint32_t slot = 0; slot < stream.size(); ++slot) {
+        const uint32_t c = cut_index(slot);
+        if (c == kWholeCell) {
+            tiles.add(slot, win, stream[slot].v.data(), 4);
+            continue;
+        }
+        fan_vertices.clear();
+        for (uint32_t k = fs.cuts[c].first; k < fs.cuts[c].first + fs.cuts[c].count; ++k)
+            fan_vertices.insert(fan_vertices.end(), &fs.fans[4 * std::size_t(k)], &fs.fans[4 * std::size_t(k)] + 3);
+        if (!fan_vertices.empty()) tiles.add(slot, win, fan_vertices.data(), int(fan_vertices.size()));
+    }
     st.setup_ms = fs.vertex_ms + ms_since(t0);
 
     const SegmentShader shade =
@@ -79,15 +108,15 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
         int px0, px1, py0, py1;
         tiles.pixels(b, px0, px1, py0, py1);
         for (uint32_t slot : tiles.items(b)) {
-            const Tet& t = stream[slot].v;
             bool have_constants = false;
             VicpTet tet;
-            for (int f = 0; f < 4; ++f) {
-                const WindowCoord wv[3] = {win[t[kVicpCorner[f][0]]], win[t[kVicpCorner[f][1]]],
-                                           win[t[kVicpCorner[f][2]]]};
+            // One triangle of the cell, rasterized, its fragments through the fragment program when it is front-facing
+            // by llvmpipe's fixed-point area (only the faces the eye sees from outside the cell make fragments; GL
+            // discards the others on gl_FrontFacing, shaders/vicp.frag).
+            const auto draw = [&](const uint32_t v0, const uint32_t v1, const uint32_t v2) {
+                const WindowCoord wv[3] = {win[v0], win[v1], win[v2]};
                 const TriangleSetup ts = setup_triangle(wv, fbuf);
-                // glCullFace(GL_BACK): only the faces the eye sees from outside the cell make fragments.
-                if (ts.empty() || ts.facing != Facing::front) continue;
+                if (ts.empty() || ts.facing != Facing::front) return;
                 const int ya = std::max(ts.y0, py0), yb = std::min(ts.y1, py1);
                 for (int py = ya; py <= yb; ++py) {
                     int first = 0, last = -1;
@@ -104,6 +133,16 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
                         const VicpSegment seg = vicp_fragment_values(fc, tet, px, py);
                         vicp_composite(fc, seg, fb[p], shade, &diag[p]);
                     }
+                }
+            };
+            const uint32_t c = cut_index(slot);
+            if (c == kWholeCell) {
+                const Tet& t = stream[slot].v;
+                for (int f = 0; f < 4; ++f) draw(t[kVicpCorner[f][0]], t[kVicpCorner[f][1]], t[kVicpCorner[f][2]]);
+            } else {
+                for (uint32_t k = fs.cuts[c].first; k < fs.cuts[c].first + fs.cuts[c].count; ++k) {
+                    const uint32_t* tri = &fs.fans[4 * std::size_t(k)];
+                    draw(tri[0], tri[1], tri[2]);
                 }
             }
         }

@@ -19,6 +19,9 @@ struct VicpStats {
     CellOrderStats order;
     double table_ms = 0, sort_ms = 0, project_ms = 0, setup_ms = 0, raster_fragment_ms = 0, readback_ms = 0;
     uint32_t draws = 0;  // the GL backend's draw calls
+    // The clip stage (gpu/vicp_clip.h): cells drawn through it, cells outside the view, near-plane sections, fan
+    // triangles, and triangles with a vertex the GPU's frustum test would clip (0 unless its margins failed).
+    uint64_t clipped_cells = 0, culled_cells = 0, near_sections = 0, fan_triangles = 0, gpu_clipped = 0;
 };
 
 struct VicpFrame {
@@ -31,6 +34,9 @@ struct VicpFrame {
 // The end of a frame, for both backends: colour and diagnostics (GL rows, from the bottom) into `out` (SPEC rows).
 void store_vicp_frame(const std::vector<glm::vec4>& colour, const std::vector<VicpDiagnostics>& diagnostics, int width,
                       int height, VicpFrame& out);
+
+// The clip stage's counts of `fs` into `st`, for both backends.
+void store_clip_stats(const VicpFrameSetup& fs, VicpStats& st);
 
 class VicpRenderer {
 public:

@@ -64,14 +64,10 @@ std::vector<std::pair<uint32_t, uint32_t>> ray_dependencies(const TetMesh& mesh,
     const std::vector<WindowCoord>& win = *fr.win;
     const Framebuffer fbuf{fr.width, fr.height, RenderTarget::fbo};
     std::vector<Crossing> xs;
-    for (const Face& f : topo.faces) {
-        if (!f.boundary()) continue;
-        const WindowCoord wv[3] = {win[f.v[0]], win[f.v[1]], win[f.v[2]]};
-        const glm::dvec3 a = mesh.points[f.v[0]] - fr.origin;
-        const glm::dvec3& p0 = mesh.points[f.v[0]];
-        const glm::dvec3 n = glm::cross(mesh.points[f.v[1]] - p0, mesh.points[f.v[2]] - p0);
+    std::vector<ClipVertex> poly, scratch;
+    auto project = [&](const WindowCoord wv[3], const Face& f, const glm::dvec3& a, const glm::dvec3& n) {
         const TriangleSetup ts = setup_triangle(wv, fbuf);
-        if (ts.empty()) continue;
+        if (ts.empty()) return;
         const bool entry = ts.facing == Facing::front;  // outward faces: seen from outside, the ray enters
         for (int py = ts.y0; py <= ts.y1; ++py) {
             int first = 0, last = -1;
@@ -79,6 +75,27 @@ std::vector<std::pair<uint32_t, uint32_t>> ray_dependencies(const TetMesh& mesh,
             for (int px = first; px <= last; ++px)
                 xs.push_back({uint32_t(py) * uint32_t(fr.width) + uint32_t(px),
                               crossing_distance(*fr.fc, a, n, px, py), uint32_t(f.tet[0]), entry});
+        }
+    };
+    for (const Face& f : topo.faces) {
+        if (!f.boundary()) continue;
+        const glm::dvec3 a = mesh.points[f.v[0]] - fr.origin;
+        const glm::dvec3& p0 = mesh.points[f.v[0]];
+        const glm::dvec3 n = glm::cross(mesh.points[f.v[1]] - p0, mesh.points[f.v[2]] - p0);
+        const VicpClipper* clip = fr.clipper;
+        if (!clip || (clip->code(f.v[0]) | clip->code(f.v[1]) | clip->code(f.v[2])) == 0) {
+            const WindowCoord wv[3] = {win[f.v[0]], win[f.v[1]], win[f.v[2]]};
+            project(wv, f, a, n);
+            continue;
+        }
+        if (clip->code(f.v[0]) & clip->code(f.v[1]) & clip->code(f.v[2])) continue;  // wholly outside one plane
+        clip->clip_triangle(f.v.data(), poly, scratch);
+        const auto window = [&](const ClipVertex& v) {
+            return v.id != ClipVertex::kNewVertex ? win[v.id] : frame_window_coord(clip->view(), fbuf, glm::vec3(v.p));
+        };
+        for (std::size_t i = 1; i + 1 < poly.size(); ++i) {
+            const WindowCoord wv[3] = {window(poly[0]), window(poly[i]), window(poly[i + 1])};
+            project(wv, f, a, n);
         }
     }
     // Along each ray: by distance, an exit before an entry at the same distance, then by cell (deterministic).

@@ -23,6 +23,7 @@
 #include <glm/vec3.hpp>
 
 #include "gpu/rasterize.h"
+#include "gpu/vicp_clip.h"
 #include "gpu/vicp_fragment.h"
 #include "reference/camera.h"
 #include "reference/mesh.h"
@@ -56,6 +57,9 @@ struct CellOrderFrame {
     // "Snapping"): each internal face orders its cells by the side of that plane the eye is on, so that the order
     // agrees with the segments drawn. Null: the mesh's own points.
     const std::vector<glm::dvec3>* snapped = nullptr;
+    // The frame's clip stage: a boundary face with a point outside its planes is projected as the fan of its clipped
+    // polygon, as the cells' faces are drawn (gpu/vicp_clip.h). Null: every face is projected whole.
+    const VicpClipper* clipper = nullptr;
     int width = 0, height = 0;
 };
 

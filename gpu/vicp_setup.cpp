@@ -25,12 +25,8 @@ VicpMesh::VicpMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t fi
     if (!(options_.threshold >= 0.0f && options_.threshold <= 1.0f))
         throw InputError("", "--threshold must be in [0, 1]");
     origin_ = mesh_bounds(mesh).center();
-    points_f_.reserve(mesh.points.size());
     points_d_.reserve(mesh.points.size());
-    for (const auto& p : mesh.points) {
-        points_d_.push_back(p - origin_);
-        points_f_.push_back(glm::vec3(points_d_.back()));
-    }
+    for (const auto& p : mesh.points) points_d_.push_back(p - origin_);
     const double span = range_.hi > range_.lo ? range_.hi - range_.lo : 1.0;
     scalar_n_.reserve(mesh.points.size());
     for (double s : mesh.fields[field].values) scalar_n_.push_back((s - range_.lo) / span);
@@ -83,15 +79,64 @@ VicpTet VicpMesh::constants(const VicpCell& cell, const std::vector<glm::dvec3>&
 
 double vicp_resident_bytes_per_cell(const VicpMesh& vm)
 {
-    const double per_point = sizeof(glm::vec3) + 3 * sizeof(double) + sizeof(double);
-    return per_point * double(vm.points_f().size()) / double(vm.mesh().tets.size());
+    const double per_point = 3 * sizeof(double) + sizeof(double);
+    return per_point * double(vm.points_d().size()) / double(vm.mesh().tets.size());
 }
 
 double vicp_sent_bytes_per_cell(const VicpMesh& vm)
 {
-    return (double(sizeof(VicpCell)) * double(vm.drawn_cells()) + 3.0 * sizeof(double) * double(vm.points_f().size())) /
+    const double per_point = 3.0 * sizeof(double) + sizeof(glm::vec3);
+    return (double(sizeof(VicpCell)) * double(vm.drawn_cells()) + per_point * double(vm.points_d().size())) /
            double(vm.mesh().tets.size());
 }
+
+namespace {
+
+// The clip stage's additions to the frame: new vertices in the vertex buffer, fan triangles of cut cells.
+class FrameFans {
+public:
+    FrameFans(VicpFrameSetup& fs, const std::vector<uint8_t>& points_outside)
+        : fs_(fs), fbuf_{fs.width, fs.height, RenderTarget::fbo}, points_(uint32_t(points_outside.size())),
+          points_outside_(points_outside)
+    {
+    }
+
+    // The polygon `poly` as a fan of triangles of the cell at `slot`, drawn next.
+    void add(const std::vector<ClipVertex>& poly, uint32_t slot)
+    {
+        if (poly.size() < 3) return;
+        ids_.clear();
+        for (const ClipVertex& v : poly) ids_.push_back(vertex(v));
+        for (std::size_t i = 1; i + 1 < ids_.size(); ++i) {
+            const uint32_t v[4] = {ids_[0], ids_[i], ids_[i + 1], slot};
+            fs_.fans.insert(fs_.fans.end(), v, v + 4);
+            if (outside(v[0]) || outside(v[1]) || outside(v[2])) ++fs_.gpu_clipped;
+        }
+    }
+
+    bool outside(uint32_t v) const { return v < points_ ? points_outside_[v] != 0 : extra_outside_[v - points_] != 0; }
+
+private:
+    uint32_t vertex(const ClipVertex& v)
+    {
+        if (v.id != ClipVertex::kNewVertex) return v.id;
+        const uint32_t id = uint32_t(fs_.points_f.size());
+        fs_.points_f.push_back(glm::vec3(v.p));
+        const auto clip = clip_position(fs_.view.mvp, fs_.points_f.back());
+        fs_.win.push_back(viewport_transform(clip.data(), fbuf_));
+        extra_outside_.push_back(outside_gpu_frustum(clip) ? 1 : 0);
+        return id;
+    }
+
+    VicpFrameSetup& fs_;
+    Framebuffer fbuf_;
+    uint32_t points_;
+    const std::vector<uint8_t>& points_outside_;
+    std::vector<uint8_t> extra_outside_;
+    std::vector<uint32_t> ids_;
+};
+
+}  // namespace
 
 VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& cam, int width, int height)
 {
@@ -99,59 +144,104 @@ VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& cam, int width
     fs.camera = cam;
     fs.width = width;
     fs.height = height;
+    const auto& mesh = vm.mesh();
+    const std::size_t npts = mesh.points.size();
 
-    // The vertex stage's positions (as HAVS's: float clip coordinates, llvmpipe's viewport transform).
-    auto t0 = Clock::now();
-    fs.view = view_setup(cam, width, height, mesh_bounds(vm.mesh()), vm.origin());
-    const Framebuffer fbuf{width, height, RenderTarget::fbo};
-    const auto& pts = vm.points_f();
-    fs.win.resize(pts.size());
-    tbb::parallel_for(std::size_t(0), pts.size(), [&](std::size_t i) {
-        const auto clip = clip_position(fs.view.mvp, pts[i]);
-        fs.win[i] = viewport_transform(clip.data(), fbuf);
-    });
     // The pixels' rays in the mesh's centred frame.
+    auto t0 = Clock::now();
     VicpFrameConstants& fc = fs.constants;
     const CameraFrame cf = camera_frame(cam);
     static_cast<PixelRays&>(fc) = pixel_rays(cam, width, height, vm.origin());
-    // Snapping: each point at its own depth along the view direction, moved to the ray through its snapped window
-    // position (fixed value 256 * p is pixel p's centre, rasterize.h).
-    fs.snapped.resize(pts.size());
-    tbb::parallel_for(std::size_t(0), pts.size(), [&](std::size_t i) {
-        const double ndc_x = (double(snap_to_fixed(fs.win[i].x)) / 256.0 + 0.5) * fc.two_over_width - 1.0;
-        const double ndc_y = (double(snap_to_fixed(fs.win[i].y)) / 256.0 + 0.5) * fc.two_over_height - 1.0;
-        const glm::dvec3 q = vm.points_d()[i] - fc.eye;
-        const double depth = (q.x * cf.f.x + q.y * cf.f.y) + q.z * cf.f.z;
-        const glm::dvec3 o = fc.eye + ndc_x * fc.ray_ox + ndc_y * fc.ray_oy;
-        const glm::dvec3 d = fc.ray_d0 + ndc_x * fc.ray_dx + ndc_y * fc.ray_dy;
-        fs.snapped[i] = o + depth * d;
-    });
     fc.threshold = vm.options().threshold;
     if (const PreintegrationTable* table = vm.table()) {
         fc.length_scale = table->length_scale();
         fc.length_bias = table->length_bias();
     }
+    // The vertex stage's positions (as HAVS's: the frame's vertex buffer relative to the eye, float clip coordinates,
+    // llvmpipe's viewport transform). Snapping: each point at its own depth along the view direction, moved to the
+    // ray through its snapped window position (fixed value 256 * p is pixel p's centre, rasterize.h). Then which of
+    // the clip stage's planes each point, so moved, lies outside of.
+    fs.view = view_setup(cam, width, height, mesh_bounds(mesh), cam.eye);
+    const ClipPlanes planes = inner_clip_planes(width, height);
+    const Framebuffer fbuf{width, height, RenderTarget::fbo};
+    fs.points_f.resize(npts);
+    fs.win.resize(npts);
+    fs.snapped.resize(npts);
+    std::vector<glm::dvec3> moved(npts);  // relative to the eye
+    std::vector<uint8_t> codes(npts), gpu_outside(npts);
+    tbb::parallel_for(std::size_t(0), npts, [&](std::size_t i) {
+        fs.points_f[i] = glm::vec3(mesh.points[i] - cam.eye);
+        const auto clip = clip_position(fs.view.mvp, fs.points_f[i]);
+        fs.win[i] = viewport_transform(clip.data(), fbuf);
+        gpu_outside[i] = outside_gpu_frustum(clip) ? 1 : 0;
+        if (gpu_outside[i]) {
+            fs.snapped[i] = vm.points_d()[i];
+        } else {
+            const double ndc_x = (double(snap_to_fixed(fs.win[i].x)) / 256.0 + 0.5) * fc.two_over_width - 1.0;
+            const double ndc_y = (double(snap_to_fixed(fs.win[i].y)) / 256.0 + 0.5) * fc.two_over_height - 1.0;
+            const glm::dvec3 q = vm.points_d()[i] - fc.eye;
+            const double depth = (q.x * cf.f.x + q.y * cf.f.y) + q.z * cf.f.z;
+            const glm::dvec3 o = fc.eye + ndc_x * fc.ray_ox + ndc_y * fc.ray_oy;
+            const glm::dvec3 d = fc.ray_d0 + ndc_x * fc.ray_dx + ndc_y * fc.ray_dy;
+            fs.snapped[i] = o + depth * d;
+        }
+        moved[i] = fs.snapped[i] - fc.eye;
+        codes[i] = uint8_t(outcode(planes, clip_vertex(fs.view, moved[i], 0.0).c));
+    });
+    const VicpClipper clipper(fs.view, width, height, moved, codes);
     fs.vertex_ms = ms_since(t0);
 
     // The cell order.
     t0 = Clock::now();
-    const auto& mesh = vm.mesh();
     std::vector<uint32_t> centroid;
-    centroid_cell_order(pts, mesh.tets, glm::vec3(fc.eye), glm::vec3(cf.f), centroid);
+    centroid_cell_order(fs.points_f, mesh.tets, glm::vec3(0.0f), glm::vec3(cf.f), centroid);
     if (vm.options().order == CellOrder::centroid) {
         fs.order = std::move(centroid);
     } else {
-        const CellOrderFrame frame{&cam, vm.origin(), &fc, &fs.win, &fs.snapped, width, height};
+        const CellOrderFrame frame{&cam, vm.origin(), &fc, &fs.win, &fs.snapped, &clipper, width, height};
         mpvonc_cell_order(mesh, vm.topology(), frame, centroid, fs.order, fs.order_stats);
     }
     fs.sort_ms = ms_since(t0);
 
-    // ProjectTet: the drawn cells in order.
+    // ProjectTet: the drawn cells in order; the clip stage for those the view cuts.
     t0 = Clock::now();
     fs.stream.reserve(vm.drawn_cells());
+    FrameFans fans(fs, gpu_outside);
+    std::vector<ClipVertex> poly, scratch;
+    constexpr unsigned kNearBit = 1u << kClipNear;
     for (uint32_t t : fs.order) {
-        VicpCell o;
-        if (vm.oriented(t, o)) fs.stream.push_back(o);
+        VicpCell c;
+        if (!vm.oriented(t, c)) continue;
+        const Tet& v = c.v;
+        const unsigned any = codes[v[0]] | codes[v[1]] | codes[v[2]] | codes[v[3]];
+        const unsigned all = codes[v[0]] & codes[v[1]] & codes[v[2]] & codes[v[3]];
+        if (any == 0) {
+            for (int f = 0; f < 4; ++f)
+                if (fans.outside(v[kVicpCorner[f][0]]) || fans.outside(v[kVicpCorner[f][1]]) ||
+                    fans.outside(v[kVicpCorner[f][2]]))
+                    ++fs.gpu_clipped;
+            fs.stream.push_back(c);
+            continue;
+        }
+        if (all != 0) {
+            ++fs.culled_cells;
+            continue;
+        }
+        const uint32_t slot = uint32_t(fs.stream.size());
+        fs.stream.push_back(c);
+        const uint32_t first = uint32_t(fs.fan_triangles());
+        for (int f = 0; f < 4; ++f) {
+            const uint32_t corners[3] = {v[kVicpCorner[f][0]], v[kVicpCorner[f][1]], v[kVicpCorner[f][2]]};
+            clipper.clip_triangle(corners, poly, scratch);
+            fans.add(poly, slot);
+        }
+        if (any & kNearBit) {
+            clipper.near_face(v.data(), poly, scratch);
+            if (poly.size() >= 3) ++fs.near_sections;
+            fans.add(poly, slot);
+        }
+        fs.cuts.push_back({slot, first, uint32_t(fs.fan_triangles()) - first});
+        ++fs.clipped_cells;
     }
     fs.project_ms = ms_since(t0);
     return fs;

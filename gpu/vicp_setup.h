@@ -1,21 +1,22 @@
 // VICP's CPU stage (seed 003, VICP-ProjectTet), shared by the emulated driver (vicp.cpp) and the GL driver
 // (gl_vicp.cpp), so that both draw the same cells in the same order:
-//   - once per mesh (VicpMesh): what the GPU keeps resident, view independent: float positions relative to the mesh's
-//     centre (for gl_Position, as HAVS's vertex buffer), the same in double (for the vertex program's constants),
-//     normalized scalars; each cell's orientation (drawn as it is, drawn with vertices 2 and 3 swapped, or not drawn:
+//   - once per mesh (VicpMesh): what the GPU keeps resident, view independent: positions relative to the mesh's
+//     centre in double (for the vertex program's constants), normalized scalars; each cell's orientation (drawn as it is, drawn with vertices 2 and 3 swapped, or not drawn:
 //     a flat cell covers no pixel's ray); the pre-integration table;
 //   - once per frame (setup_vicp_frame): the cell order (vicp_order), then ProjectTet: each drawn cell's four point
 //     indices in that order, positively oriented, which is everything sent per frame (16 bytes a cell, against the
 //     seed's 132 floats = 528 bytes: the seed sends each face's vertices with their scalar, gradient and opposite
 //     plane; here those live in the resident buffers and the vertex program derives them, docs/vicp.md); the window
 //     coordinates of every point (the vertex stage's positions, as the rasterizer receives them) and the frame's
-//     constants.
+//     constants; the frame's vertex buffer (float positions relative to the eye, for gl_Position, as HAVS's) and the
+//     clip stage's fans for the cells the view cuts (gpu/vicp_clip.h).
 #pragma once
 
 #include <memory>
 #include <vector>
 
 #include "gpu/havs_setup.h"
+#include "gpu/vicp_clip.h"
 #include "gpu/vicp_fragment.h"
 #include "gpu/vicp_order.h"
 
@@ -50,7 +51,6 @@ public:
     const SegmentIntegrator& integrator() const { return integrator_; }
     const Range& range() const { return range_; }
     const glm::dvec3& origin() const { return origin_; }
-    const std::vector<glm::vec3>& points_f() const { return points_f_; }    // relative to origin(), float
     const std::vector<glm::dvec3>& points_d() const { return points_d_; }   // relative to origin(), double
     const std::vector<double>& scalars_n() const { return scalar_n_; }      // normalized to [0, 1]
     const PreintegrationTable* table() const { return table_.get(); }      // null with --segment exact
@@ -71,7 +71,6 @@ private:
     SegmentIntegrator integrator_;
     Range range_;
     glm::dvec3 origin_{0.0};
-    std::vector<glm::vec3> points_f_;
     std::vector<glm::dvec3> points_d_;
     std::vector<double> scalar_n_;
     std::vector<uint8_t> orientation_;  // per cell: 0 not drawn, 1 as it is, 2 vertices 2 and 3 swapped
@@ -86,21 +85,35 @@ struct VicpFrameSetup {
     int width = 0, height = 0;
     ViewSetup view;
     VicpFrameConstants constants;
-    std::vector<WindowCoord> win;  // per point: what the rasterizer receives
-    // Per point, relative to the mesh's centre in double: where snapping put it (the window position the rasterizer
-    // snapped it to, at its own depth; vicp_fragment.h, "Snapping").
+    // The frame's vertex buffer: the mesh's points, then the vertices the clip stage made, relative to the eye in
+    // float (gl_Position), and what the rasterizer receives of each.
+    std::vector<glm::vec3> points_f;
+    std::vector<WindowCoord> win;
+    // Per mesh point, relative to the mesh's centre in double: where snapping put it (the window position the
+    // rasterizer snapped it to, at its own depth; vicp_fragment.h, "Snapping"), or the point itself where the GPU's
+    // frustum test would clip it (it is never rasterized).
     std::vector<glm::dvec3> snapped;
     std::vector<uint32_t> order;   // every cell, front to back
     std::vector<VicpCell> stream;  // ProjectTet's output: the drawn cells, oriented, in order
+    // The cells of the stream the view cuts (by slot), drawn as fans instead of their four faces (gpu/vicp_clip.h),
+    // and the fans' triangles: four values each, its three vertices (indices into points_f) and its cell's slot.
+    std::vector<VicpCut> cuts;
+    std::vector<uint32_t> fans;
     CellOrderStats order_stats;
+    // The clip stage's counts: cells drawn through it, cells outside the view, near-plane sections drawn, and drawn
+    // triangles with a vertex the GPU's frustum test would clip (0 unless the clip stage's margins failed).
+    uint64_t clipped_cells = 0, culled_cells = 0, near_sections = 0, gpu_clipped = 0;
     double sort_ms = 0.0, project_ms = 0.0, vertex_ms = 0.0;
+
+    std::size_t fan_triangles() const { return fans.size() / 4; }
 };
 
-// Throws InputError when the camera is inside the mesh's bounds (as HAVS: near-plane clipping is not emulated).
+// The frame's CPU stage. A view that cuts the mesh goes through the clip stage (gpu/vicp_clip.h).
 VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& camera, int width, int height);
 
-// What the GPU holds per cell: resident (positions in float and double, scalars, per point; amortized over cells) and
-// sent per frame (ProjectTet's stream, 16 bytes a cell, and the snapped points in double, 24 bytes a point).
+// What the GPU holds per cell: resident (positions in double and scalars, per point; amortized over cells) and sent
+// per frame (ProjectTet's stream, 20 bytes a cell, the snapped points in double, 24 bytes a point, and the vertex
+// buffer, 12 bytes a point; the clip stage's fans, when a view cuts the mesh, are not counted).
 double vicp_sent_bytes_per_cell(const VicpMesh& vm);
 inline constexpr std::size_t kSeedBytesSentPerCell = 132 * sizeof(float);  // seed 003's count
 double vicp_resident_bytes_per_cell(const VicpMesh& vm);

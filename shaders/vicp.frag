@@ -4,8 +4,10 @@
 // Front-to-back compositing reads the framebuffer colour in the shader (GL_EXT_shader_framebuffer_fetch, coherent:
 // each fragment sees what the previous one on its pixel wrote, in primitive order, the cells' order), as HAVS's
 // k-buffer does (shaders/havs.frag); the seed blends back to front in fixed function, which a front-to-back order
-// and the opacity kill cannot use (docs/vicp.md, "Compositing"). Back faces are culled by the rasterizer
-// (glCullFace(GL_BACK)): each pixel sees a cell once, through the face its ray enters by.
+// and the opacity kill cannot use (docs/vicp.md, "Compositing"). Back faces are discarded here, on gl_FrontFacing
+// (llvmpipe's fixed-point facing, which the emulation mirrors), not culled by glCullFace, whose draw-module stage
+// decides slivers on a float determinant (docs/rasterizer.md, "Not emulated" 2): each pixel sees a cell once,
+// through the face its ray enters by.
 
 flat in VicpTet vicp_tet;
 
@@ -19,6 +21,7 @@ vec4 vicp_shade(float u_front, float u_back, float t_z, float seg_length)
 
 void main()
 {
+    if (!gl_FrontFacing) discard;
     VicpSegment seg = vicp_fragment_values(vicp_tet, ivec2(gl_FragCoord.xy));
     vec4 fb = vicp_color, diag = vicp_diagnostics;
     if (!vicp_composite(seg, fb, diag)) discard;

@@ -60,7 +60,7 @@ void require_converges(const Scene& s, const Camera& cam, int width, int height,
 TEST_CASE("the clip stage makes a shared edge's crossing bit for bit the same from either end")
 {
     const Camera cam = looking({2.3, 3.1, 2.7}, {6.0, 4.0, 5.0});
-    const ViewSetup vs = view_setup(cam, 64, 48, Bounds{{0, 0, 0}, {6, 6, 6}}, cam.eye, NearPlane::clipped);
+    const ViewSetup vs = view_setup(cam, 64, 48, Bounds{{0, 0, 0}, {6, 6, 6}}, cam.eye);
     const ClipPlanes planes = inner_clip_planes(64, 48);
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> U(-8.0, 8.0), S(0.0, 1.0);
@@ -93,7 +93,7 @@ TEST_CASE("near-plane sections of a box's cells tile the box's cross-section")
     const TetMesh mesh = test::box_mesh(4, [](const glm::dvec3& p) { return p.x; }, 0.3, 5);
     for (const glm::dvec3 eye : {glm::dvec3(1.7, 2.2, 1.9), glm::dvec3(2.0, 2.0, 2.0)}) {
         const Camera cam = looking(eye, eye + glm::dvec3(1.0, 0.0, 0.0));
-        const ViewSetup vs = view_setup(cam, 32, 32, mesh_bounds(mesh), cam.eye, NearPlane::clipped);
+        const ViewSetup vs = view_setup(cam, 32, 32, mesh_bounds(mesh), cam.eye);
         REQUIRE(vs.near_cuts);
         const ClipPlanes planes = inner_clip_planes(32, 32);
         double area = 0.0, plane_x = 0.0;

@@ -218,20 +218,80 @@ TEST_CASE("MPVONC reports a visibility cycle and still draws every cell")
     }
 }
 
-TEST_CASE("VICP refuses a camera inside the mesh's bounds with a clear error")
+namespace {
+
+// VICP (exact segments, MPVONC) on a view that cuts the mesh, against the reference, with the clip stage's counts.
+void require_clipped_converges(const Scene& s, const Camera& cam, int width, int height, bool expect_near_sections)
 {
-    // As HAVS: no near-plane clipping is emulated (docs/robustness.md), so such a frame would be wrong.
-    const Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
-    Camera cam;
-    cam.eye = mesh_bounds(s.mesh).center();
-    cam.target = cam.eye + glm::dvec3(1.0, 0.0, 0.0);
-    const VicpRenderer vicp(s.mesh, s.topo, s.field, s.tf, VicpOptions{});
-    test::require_input_error([&] { vicp.render(cam, 32, 32); }, {"camera is inside", "VICP"});
+    const VicpFrame f = VicpRenderer(s.mesh, s.topo, s.field, s.tf, exact_options(CellOrder::mpvonc))
+                            .render(cam, width, height);
+    const Image ref = reference(s, cam, width, height);
+    const test::ImageErrors e = test::image_errors(f.image, ref, kConvergenceMax);
+    const VicpStats& st = f.stats;
+    INFO("RMSE " << e.rmse << ", max " << e.max_abs << ", pixels over " << kConvergenceMax << ": " << e.over << "; "
+                 << st.clipped_cells << " cells clipped, " << st.culled_cells << " culled, " << st.near_sections
+                 << " near sections, " << st.fan_triangles << " fan triangles, " << st.gpu_clipped
+                 << " triangles left for the GPU to clip; " << st.order.cycle_breaks << " cycle breaks, "
+                 << st.ordering_errors << " ordering errors");
+    CHECK(st.clipped_cells > 0);
+    CHECK(st.gpu_clipped == 0);
+    CHECK((st.near_sections > 0) == expect_near_sections);
+    CHECK(st.order.cycle_breaks == 0);
+    CHECK(st.ordering_errors == 0);
+    CHECK(e.rmse <= kConvergenceRmse);
+    CHECK(e.max_abs <= kConvergenceMax);
+    // The scene is not empty: the comparison has something to compare.
+    float largest_alpha = 0.0f;
+    for (std::size_t p = 3; p < ref.rgba.size(); p += 4) largest_alpha = std::max(largest_alpha, ref.rgba[p]);
+    CHECK(largest_alpha > 0.1f);
+}
+
+}  // namespace
+
+TEST_CASE("a camera inside the mesh or on its boundary: VICP equals the reference")
+{
+    // The views of HAVS's clip test (test_havs_clip.cpp), after the reference's own inside-camera test, which checks
+    // the reference against the analytic chord.
+    using test::box_scene;
+    using test::looking;
+    SECTION("inside a cell")
+    {
+        require_clipped_converges(box_scene(6, 0.25), looking({2.3, 3.1, 2.7}, {6.0, 4.0, 5.0}), 64, 64, true);
+    }
+    SECTION("exactly on a grid vertex, rays along edges and faces")
+    {
+        require_clipped_converges(box_scene(6, 0.0), looking({3.0, 3.0, 3.0}, {6.0, 3.0, 3.0}), 64, 64, true);
+    }
+    SECTION("exactly on a boundary face, looking in")
+    {
+        require_clipped_converges(box_scene(6, 0.0), looking({3.2, 2.9, 0.0}, {3.0, 3.0, 6.0}), 64, 64, true);
+    }
+    SECTION("orthographic, the image plane inside the mesh")
+    {
+        Camera cam = looking({2.3, 3.1, 2.7}, {6.0, 4.0, 5.0});
+        cam.orthographic = true;
+        cam.ortho_height = 3.0;
+        require_clipped_converges(box_scene(6, 0.25), cam, 64, 48, true);
+    }
+    SECTION("Blunt Fin, from inside its flow region")
+    {
+        const Scene s = test::blunt_fin();
+        require_clipped_converges(s, test::inside_view(s), 96, 96, true);
+    }
+}
+
+TEST_CASE("a view that cuts the mesh at the image's sides: VICP equals the reference")
+{
+    // The camera outside the mesh but so close that the mesh fills more than the image: cells cross the side planes
+    // (the draw module would clip them), none the near plane.
+    require_clipped_converges(test::box_scene(6, 0.25), test::looking({3.1, 2.8, -1.5}, {3.0, 3.0, 6.0}, 60.0), 64,
+                              64, false);
 }
 
 TEST_CASE("far from the origin: VICP on coordinates at 1e8 with features at 1e-3 still equals the reference")
 {
-    // Positions relative to the mesh's centre (as HAVS's vertex buffer) and rays in the same frame keep the features.
+    // The vertex buffer relative to the eye (as HAVS's), the cells' constants and the rays relative to the mesh's
+    // centre in double, keep the features.
     TetMesh m = load_builtin("builtin:torus-small");
     for (auto& p : m.points) p = glm::dvec3(1e8) + p * 1e-3;
     const Scene s = test::make_scene(std::move(m), 0);
