@@ -85,6 +85,16 @@ void clip_polygon(const ViewSetup& vs, const ClipPlanes& planes, std::vector<Cli
     }
 }
 
+uint32_t ClipVertexBuffer::append(const ClipVertex& v)
+{
+    const uint32_t id = uint32_t(points_f_.size());
+    points_f_.push_back(glm::vec3(v.p));
+    const auto clip = clip_position(view_.mvp, points_f_.back());
+    win_.push_back(viewport_transform(clip.data(), fbuf_));
+    new_outside_.push_back(outside_gpu_frustum(clip) ? 1 : 0);
+    return id;
+}
+
 bool outside_gpu_frustum(const std::array<float, 4>& c)
 {
     const float w = c[3];

@@ -22,6 +22,7 @@
 #include <glm/vec4.hpp>
 
 #include "gpu/havs_vertex.h"
+#include "gpu/rasterize.h"
 
 namespace uvr::gpu {
 
@@ -73,5 +74,51 @@ bool outside_gpu_frustum(const std::array<float, 4>& clip);
 // in front of the plane (plane_value < 0) and some not; otherwise 3 or 4 vertices, made by crossing() on the cut
 // edges, in cyclic order. Adjacent tetrahedra make the same vertices on the edges they share.
 void near_section(const ViewSetup& vs, const ClipPlanes& planes, const ClipVertex v[4], std::vector<ClipVertex>& poly);
+
+// The frame's vertex buffer as the clip stage extends it (HAVS and VICP alike): the mesh's points, then the vertices
+// clipping makes, each with its float position relative to the eye and its window coordinates, and whether the GPU's
+// frustum test would clip it (the renderers count such triangles as gpu_clipped: 0 unless the margins above fail).
+class ClipVertexBuffer {
+public:
+    // points_f and win hold the mesh's points (the vertex stage's output); points_outside says, per mesh point, whether
+    // the GPU's frustum test would clip it.
+    ClipVertexBuffer(const ViewSetup& view, int width, int height, std::vector<glm::vec3>& points_f,
+                     std::vector<WindowCoord>& win, const std::vector<uint8_t>& points_outside)
+        : view_(view), fbuf_{width, height, RenderTarget::fbo}, points_f_(points_f), win_(win),
+          points_(uint32_t(points_outside.size())), points_outside_(points_outside)
+    {
+    }
+
+    // The frame vertices of the polygon's vertices, in order, into `ids`: a mesh point keeps its index, a crossing is
+    // appended, and on_new(vertex) is called for it (for a renderer's own per-vertex data).
+    template <class OnNew>
+    void add(const std::vector<ClipVertex>& poly, std::vector<uint32_t>& ids, OnNew&& on_new)
+    {
+        ids.clear();
+        for (const ClipVertex& v : poly) {
+            if (v.id != ClipVertex::kNewVertex) {
+                ids.push_back(v.id);
+                continue;
+            }
+            ids.push_back(append(v));
+            on_new(v);
+        }
+    }
+
+    // Whether the GPU's frustum test would clip a vertex of triangle v.
+    bool gpu_clips(uint32_t v0, uint32_t v1, uint32_t v2) const { return outside(v0) || outside(v1) || outside(v2); }
+
+private:
+    uint32_t append(const ClipVertex& v);
+    bool outside(uint32_t v) const { return v < points_ ? points_outside_[v] != 0 : new_outside_[v - points_] != 0; }
+
+    const ViewSetup& view_;
+    Framebuffer fbuf_;
+    std::vector<glm::vec3>& points_f_;
+    std::vector<WindowCoord>& win_;
+    uint32_t points_;
+    const std::vector<uint8_t>& points_outside_;
+    std::vector<uint8_t> new_outside_;
+};
 
 }  // namespace uvr::gpu

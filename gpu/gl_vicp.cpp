@@ -214,8 +214,7 @@ VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
         gl.Uniform1ui(slot_base, GLuint(c0));
         st.setup_ms += ms_since(t0);
         t0 = Clock::now();
-        if (firsts.size() == 1) gl.DrawArrays(GL_TRIANGLES, firsts[0], sizes[0]);
-        else if (!firsts.empty()) gl.MultiDrawArrays(GL_TRIANGLES, firsts.data(), sizes.data(), GLsizei(firsts.size()));
+        if (!firsts.empty()) gl.MultiDrawArrays(GL_TRIANGLES, firsts.data(), sizes.data(), GLsizei(firsts.size()));
         st.raster_fragment_ms += ms_since(t0);
         ++st.draws;
     }

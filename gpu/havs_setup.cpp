@@ -84,13 +84,13 @@ HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t fi
 
 namespace {
 
-// The clip stage's frame vertices: a mesh point stays itself, a crossing becomes a new frame vertex.
+// The clip stage's frame vertices (ClipVertexBuffer, with HAVS's own per-vertex data) and triangles.
 class FrameVertices {
 public:
     // points_outside: per mesh point, whether the GPU's frustum test would clip it.
-    FrameVertices(const HavsMesh& hm, HavsFrameSetup& fs, const std::vector<uint8_t>& points_outside)
-        : fs_(fs), frame_(camera_frame(fs.camera)), fbuf_{fs.width, fs.height, RenderTarget::fbo},
-          points_(uint32_t(hm.mesh().points.size())), points_outside_(points_outside)
+    FrameVertices(HavsFrameSetup& fs, const std::vector<uint8_t>& points_outside)
+        : fs_(fs), frame_(camera_frame(fs.camera)),
+          buffer_(fs.view, fs.width, fs.height, fs.points_f, fs.win, points_outside)
     {
     }
 
@@ -98,31 +98,20 @@ public:
     void draw(uint32_t id, const uint32_t* v)
     {
         fs_.draw.push_back(id);
-        if (gpu_outside(v[0]) || gpu_outside(v[1]) || gpu_outside(v[2])) ++fs_.gpu_clipped;
-    }
-
-    uint32_t add(const ClipVertex& v)
-    {
-        if (v.id != ClipVertex::kNewVertex) return v.id;
-        const uint32_t id = uint32_t(fs_.points_f.size());
-        fs_.points_f.push_back(glm::vec3(v.p));
-        const auto clip = clip_position(fs_.view.mvp, fs_.points_f.back());
-        fs_.win.push_back(viewport_transform(clip.data(), fbuf_));
-        glm::dvec3 wd;
-        window_position_d(fs_.view, v.p, fs_.width, fs_.height, wd.x, wd.y, wd.z);
-        fs_.win_d.push_back(wd);
-        fs_.eye.push_back(eye_space(frame_, v.p));
-        fs_.extra_s.push_back(v.s);
-        gpu_outside_.push_back(outside_gpu_frustum(clip) ? 1 : 0);
-        return id;
+        if (buffer_.gpu_clips(v[0], v[1], v[2])) ++fs_.gpu_clipped;
     }
 
     // The clipped polygon as a fan of extra triangles lying on `face`, drawn next.
     void draw_fan(const std::vector<ClipVertex>& poly, uint32_t face)
     {
         if (poly.size() < 3) return;
-        ids_.clear();
-        for (const ClipVertex& v : poly) ids_.push_back(add(v));
+        buffer_.add(poly, ids_, [&](const ClipVertex& v) {
+            glm::dvec3 wd;
+            window_position_d(fs_.view, v.p, fs_.width, fs_.height, wd.x, wd.y, wd.z);
+            fs_.win_d.push_back(wd);
+            fs_.eye.push_back(eye_space(frame_, v.p));
+            fs_.extra_s.push_back(v.s);
+        });
         for (std::size_t i = 1; i + 1 < ids_.size(); ++i) {
             const uint32_t v[3] = {ids_[0], ids_[i], ids_[i + 1]};
             const uint32_t id = fs_.mesh_faces + uint32_t(fs_.extra_face.size());
@@ -133,17 +122,9 @@ public:
     }
 
 private:
-    bool gpu_outside(uint32_t v) const
-    {
-        return v < points_ ? points_outside_[v] != 0 : gpu_outside_[v - points_] != 0;
-    }
-
     HavsFrameSetup& fs_;
     CameraFrame frame_;
-    Framebuffer fbuf_;
-    uint32_t points_;
-    const std::vector<uint8_t>& points_outside_;
-    std::vector<uint8_t> gpu_outside_;
+    ClipVertexBuffer buffer_;
     std::vector<uint32_t> ids_;
 };
 
@@ -198,7 +179,7 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
     // the faces in sorted order: inside every plane as they are, wholly outside one plane not at all, the others as
     // the fans of their clipped polygons.
     t0 = Clock::now();
-    FrameVertices frame_vertices(hm, fs, gpu_outside);
+    FrameVertices frame_vertices(fs, gpu_outside);
     auto clip_vertex_of = [&](uint32_t i) {
         ClipVertex v = clip_vertex(fs.view, mesh.points[i] - cam.eye, hm.scalar_n(i));
         v.id = i;

@@ -92,12 +92,12 @@ double vicp_sent_bytes_per_cell(const VicpMesh& vm)
 
 namespace {
 
-// The clip stage's additions to the frame: new vertices in the vertex buffer, fan triangles of cut cells.
+// The clip stage's additions to the frame: new vertices in the vertex buffer (ClipVertexBuffer), fan triangles of cut
+// cells.
 class FrameFans {
 public:
     FrameFans(VicpFrameSetup& fs, const std::vector<uint8_t>& points_outside)
-        : fs_(fs), fbuf_{fs.width, fs.height, RenderTarget::fbo}, points_(uint32_t(points_outside.size())),
-          points_outside_(points_outside)
+        : fs_(fs), buffer_(fs.view, fs.width, fs.height, fs.points_f, fs.win, points_outside)
     {
     }
 
@@ -105,34 +105,19 @@ public:
     void add(const std::vector<ClipVertex>& poly, uint32_t slot)
     {
         if (poly.size() < 3) return;
-        ids_.clear();
-        for (const ClipVertex& v : poly) ids_.push_back(vertex(v));
+        buffer_.add(poly, ids_, [](const ClipVertex&) {});
         for (std::size_t i = 1; i + 1 < ids_.size(); ++i) {
             const uint32_t v[4] = {ids_[0], ids_[i], ids_[i + 1], slot};
             fs_.fans.insert(fs_.fans.end(), v, v + 4);
-            if (outside(v[0]) || outside(v[1]) || outside(v[2])) ++fs_.gpu_clipped;
+            if (buffer_.gpu_clips(v[0], v[1], v[2])) ++fs_.gpu_clipped;
         }
     }
 
-    bool outside(uint32_t v) const { return v < points_ ? points_outside_[v] != 0 : extra_outside_[v - points_] != 0; }
+    const ClipVertexBuffer& buffer() const { return buffer_; }
 
 private:
-    uint32_t vertex(const ClipVertex& v)
-    {
-        if (v.id != ClipVertex::kNewVertex) return v.id;
-        const uint32_t id = uint32_t(fs_.points_f.size());
-        fs_.points_f.push_back(glm::vec3(v.p));
-        const auto clip = clip_position(fs_.view.mvp, fs_.points_f.back());
-        fs_.win.push_back(viewport_transform(clip.data(), fbuf_));
-        extra_outside_.push_back(outside_gpu_frustum(clip) ? 1 : 0);
-        return id;
-    }
-
     VicpFrameSetup& fs_;
-    Framebuffer fbuf_;
-    uint32_t points_;
-    const std::vector<uint8_t>& points_outside_;
-    std::vector<uint8_t> extra_outside_;
+    ClipVertexBuffer buffer_;
     std::vector<uint32_t> ids_;
 };
 
@@ -162,13 +147,13 @@ VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& cam, int width
     // ray through its snapped window position (fixed value 256 * p is pixel p's centre, rasterize.h). Then which of
     // the clip stage's planes each point, so moved, lies outside of.
     fs.view = view_setup(cam, width, height, mesh_bounds(mesh), cam.eye);
-    const ClipPlanes planes = inner_clip_planes(width, height);
     const Framebuffer fbuf{width, height, RenderTarget::fbo};
     fs.points_f.resize(npts);
     fs.win.resize(npts);
     fs.snapped.resize(npts);
     std::vector<glm::dvec3> moved(npts);  // relative to the eye
     std::vector<uint8_t> codes(npts), gpu_outside(npts);
+    const VicpClipper clipper(fs.view, width, height, moved, codes);  // reads moved and codes, filled below
     tbb::parallel_for(std::size_t(0), npts, [&](std::size_t i) {
         fs.points_f[i] = glm::vec3(mesh.points[i] - cam.eye);
         const auto clip = clip_position(fs.view.mvp, fs.points_f[i]);
@@ -186,9 +171,8 @@ VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& cam, int width
             fs.snapped[i] = o + depth * d;
         }
         moved[i] = fs.snapped[i] - fc.eye;
-        codes[i] = uint8_t(outcode(planes, clip_vertex(fs.view, moved[i], 0.0).c));
+        codes[i] = uint8_t(outcode(clipper.planes(), clip_vertex(fs.view, moved[i], 0.0).c));
     });
-    const VicpClipper clipper(fs.view, width, height, moved, codes);
     fs.vertex_ms = ms_since(t0);
 
     // The cell order.
@@ -217,8 +201,7 @@ VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& cam, int width
         const unsigned all = codes[v[0]] & codes[v[1]] & codes[v[2]] & codes[v[3]];
         if (any == 0) {
             for (int f = 0; f < 4; ++f)
-                if (fans.outside(v[kVicpCorner[f][0]]) || fans.outside(v[kVicpCorner[f][1]]) ||
-                    fans.outside(v[kVicpCorner[f][2]]))
+                if (fans.buffer().gpu_clips(v[kVicpCorner[f][0]], v[kVicpCorner[f][1]], v[kVicpCorner[f][2]]))
                     ++fs.gpu_clipped;
             fs.stream.push_back(c);
             continue;

@@ -41,4 +41,12 @@ inline ImageErrors image_errors(const Image& img, const Image& ref,
     return e;
 }
 
+// Whether every channel of every pixel is a finite number.
+inline bool all_finite(const Image& img)
+{
+    for (float x : img.rgba)
+        if (!std::isfinite(x)) return false;
+    return true;
+}
+
 }  // namespace uvr::test

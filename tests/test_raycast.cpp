@@ -7,6 +7,7 @@
 #include "reference/error_measures.h"
 #include "reference/reference_renderer.h"
 #include "reference/volume_integrator.h"
+#include "image_errors.h"
 #include "volume_scenes.h"
 
 using namespace uvr;
@@ -37,13 +38,6 @@ Image reference(const Volume& v, const TransferFunction& tf, const Camera& cam, 
 {
     ReferenceStats st;
     return render_reference(VolumeIntegrator(v, tf), cam, w, h, st);
-}
-
-bool finite(const Image& img)
-{
-    for (float x : img.rgba)
-        if (!std::isfinite(x)) return false;
-    return true;
 }
 
 }  // namespace
@@ -150,7 +144,7 @@ TEST_CASE("ray caster survives grazing rays, a volume one sample thick and a cam
         cam.ortho_height = 8.0;
         const RaycastFrame f = RaycastRenderer(v, tf, options(0.02)).render(cam, 8, 8);
         const Image ref = reference(v, tf, cam, 8, 8);
-        REQUIRE(finite(f.image));
+        REQUIRE(test::all_finite(f.image));
         CHECK(f.stats.rays == 25u);  // the closed box: x, y in {0 .. 4}
         // The rays in the faces are integrated like the others: no pixel errs more than the march's first-order error
         // at this step (measured 2.0e-2 at a step of 0.25, so about 1.6e-3 at 0.02; 4e-3 leaves room, while a face
@@ -164,7 +158,7 @@ TEST_CASE("ray caster survives grazing rays, a volume one sample thick and a cam
             const Camera cam = default_camera(volume_bounds(flat), 1.0, az, 15.0);
             const RaycastFrame f = RaycastRenderer(flat, tf, options(0.5)).render(cam, 24, 24);
             INFO("azimuth " << az);
-            REQUIRE(finite(f.image));
+            REQUIRE(test::all_finite(f.image));
             CHECK(f.stats.samples == 0);
             CHECK(measure_errors(f.image, reference(flat, tf, cam, 24, 24)).max_abs == 0.0);
         }
@@ -179,7 +173,7 @@ TEST_CASE("ray caster survives grazing rays, a volume one sample thick and a cam
         cam.fovy_deg = 60.0;
         const RaycastFrame f = RaycastRenderer(v, tf, options(0.05)).render(cam, 32, 32);
         const Image ref = reference(v, tf, cam, 32, 32);
-        REQUIRE(finite(f.image));
+        REQUIRE(test::all_finite(f.image));
         CHECK(f.stats.rays == 32u * 32u);  // every ray starts inside
         // A first-order march at a step of 1/20 of a voxel: the error is a few 1e-3 (measured 2e-3).
         CHECK(measure_errors(f.image, ref).max_abs < 1e-2);
