@@ -1,5 +1,6 @@
 #include "gpu/gl_havs.h"
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 #include <vector>
@@ -21,6 +22,14 @@ constexpr const char* kFramebufferFetch = "GL_EXT_shader_framebuffer_fetch";
 constexpr const char* kInt64 = "GL_ARB_gpu_shader_int64";
 
 int entry_targets(int k) { return (k + 1) / 2; }
+
+// The face constants of one draw, at most: 16 MiB (83,886 faces). Each draw's constants and element indices are
+// uploaded just before it, and llvmpipe keeps a draw's storage buffer until the scene that reads it is rasterized, so
+// what the GL side holds grows with this size: at 10.1 M tetrahedra (20.3 M faces) the whole frame's element buffer
+// (12 bytes a face, twice: the CPU's and Mesa's) and 128 MiB chunks (the block size) peaked at 266 bytes per
+// tetrahedron, 16 MiB chunks with per-chunk indices at 187 (8 MiB: 186). The frame time does not move with it (Blunt
+// Fin, 512 x 512: 0.69-0.73 s with 128, 16 or 8 MiB). docs/results.md, "Memory".
+constexpr std::size_t kFaceBytesPerDraw = std::size_t(16) << 20;
 
 }  // namespace
 
@@ -51,7 +60,8 @@ std::size_t GlHavsRenderer::faces_per_draw() const
     if (faces_per_draw_) return faces_per_draw_;
     GLint64 block = 0;
     ctx_.gl().GetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
-    return std::max<std::size_t>(1, std::size_t(block) / sizeof(GlHavsFace));
+    const std::size_t bytes = std::min<std::size_t>(std::size_t(std::max<GLint64>(block, 0)), kFaceBytesPerDraw);
+    return std::max<std::size_t>(1, bytes / sizeof(GlHavsFace));
 }
 
 int GlHavsRenderer::max_k(const GlInfo& info, bool diagnostics)
@@ -146,16 +156,9 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     store_clip_stats(fs, st);
     auto t0 = Clock::now();
     const std::size_t ntris = fs.draw.size();
-    std::vector<uint32_t> indices(3 * ntris);
-    tbb::parallel_for(std::size_t(0), ntris, [&](std::size_t i) {
-        const uint32_t* v = fs.triangle(mesh_, fs.draw[i]);
-        for (int j = 0; j < 3; ++j) indices[3 * i + std::size_t(j)] = v[j];
-    });
     gl.BindVertexArray(gl_->mesh_vao);
     gl.BindBuffer(GL_ARRAY_BUFFER, gl_->vertex_buffer);
     gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(fs.points_f.size() * sizeof(glm::vec3)), fs.points_f.data(),
-                  GL_STREAM_DRAW);
-    gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(indices.size() * sizeof(uint32_t)), indices.data(),
                   GL_STREAM_DRAW);
 
     gl_->framebuffer->bind(width, height);
@@ -183,19 +186,23 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     // are built and uploaded just before it: the CPU never holds more than one chunk of them.
     const std::size_t chunk = faces_per_draw();
     std::vector<GlHavsFace> records(std::min(chunk, ntris));
+    std::vector<uint32_t> indices(3 * records.size());
     gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, gl_->face_buffer);
     for (std::size_t c0 = 0; c0 < ntris; c0 += chunk) {
         const std::size_t n = std::min(chunk, ntris - c0);
         t0 = Clock::now();
         tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-            records[i] = pack_havs_face(havs_face_constants(mesh_, fs, fs.draw[c0 + i]));
+            const uint32_t id = fs.draw[c0 + i];
+            records[i] = pack_havs_face(havs_face_constants(mesh_, fs, id));
+            const uint32_t* v = fs.triangle(mesh_, id);
+            for (std::size_t j = 0; j < 3; ++j) indices[3 * i + j] = v[j];
         });
         gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(n * sizeof(GlHavsFace)), records.data(), GL_STREAM_DRAW);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, gl_->face_buffer);
+        gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(3 * n * sizeof(uint32_t)), indices.data(), GL_STREAM_DRAW);
         st.setup_ms += ms_since(t0);
         t0 = Clock::now();
-        gl.DrawElements(GL_TRIANGLES, GLsizei(3 * n), GL_UNSIGNED_INT,
-                        reinterpret_cast<const void*>(3 * c0 * sizeof(uint32_t)));
+        gl.DrawElements(GL_TRIANGLES, GLsizei(3 * n), GL_UNSIGNED_INT, nullptr);
         st.raster_fragment_ms += ms_since(t0);
         ++st.draws;
     }

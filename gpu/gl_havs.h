@@ -4,9 +4,9 @@
 // k-buffer living in RGBA32F colour attachments read and written with GL_EXT_shader_framebuffer_fetch; then the k
 // flush passes. docs/gl-backend.md.
 //
-// Per frame: the faces' vertex indices in sorted order go to an element buffer and their constants (GlHavsFace, in
-// the same order) to a shader storage buffer indexed by gl_PrimitiveID; glDrawElements draws them, in one call or,
-// for meshes whose constants exceed the storage block size, in consecutive chunks.
+// Per frame: the faces go in sorted order, in consecutive chunks, one draw each: a chunk's vertex indices to an element
+// buffer and its constants (GlHavsFace, in the same order) to a shader storage buffer indexed by gl_PrimitiveID, just
+// before glDrawElements draws it. GL keeps primitive order across draws.
 #pragma once
 
 #include <memory>
@@ -38,8 +38,8 @@ public:
     // asked for, two entries in each of the others.
     static int max_k(const GlInfo& info, bool diagnostics);
 
-    // Faces drawn per draw call: as many as GL_MAX_SHADER_STORAGE_BLOCK_SIZE bytes of face constants hold (128 MiB on
-    // llvmpipe: 671,088 faces), or `n` when set (tests; 0 goes back to the limit).
+    // Faces drawn per draw call: as many as 16 MiB of face constants hold (83,886 faces; less where
+    // GL_MAX_SHADER_STORAGE_BLOCK_SIZE is smaller), or `n` when set (tests; 0 goes back to the limit).
     std::size_t faces_per_draw() const;
     void set_faces_per_draw(std::size_t n) { faces_per_draw_ = n; }
 
