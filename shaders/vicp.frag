@@ -4,7 +4,7 @@
 // Front-to-back compositing reads the framebuffer colour in the shader (GL_EXT_shader_framebuffer_fetch, coherent:
 // each fragment sees what the previous one on its pixel wrote, in primitive order, the cells' order), as HAVS's
 // k-buffer does (shaders/havs.frag); the seed blends back to front in fixed function, which a front-to-back order
-// and the opacity kill cannot use (docs/vicp.md, "Compositing"). Back faces are discarded here, on gl_FrontFacing
+// and the opacity kill cannot use (docs/vicp.md, "Compositing"). Back faces are dropped here, on gl_FrontFacing
 // (llvmpipe's fixed-point facing, which the emulation mirrors), not culled by glCullFace, whose draw-module stage
 // decides slivers on a float determinant (docs/rasterizer.md, "Not emulated" 2): each pixel sees a cell once,
 // through the face its ray enters by.
@@ -19,12 +19,18 @@ vec4 vicp_shade(float u_front, float u_back, float t_z, float seg_length)
     return preintegration_lookup(u_front, u_back, t_z);
 }
 
+// Neither a back face nor a killed fragment (the opacity kill) discards: both write back what they read, which leaves
+// the attachments' bits as a discard would (moves and selects keep a float's bits, denormals included). A shader that
+// can discard runs markedly slower on llvmpipe (shaders/havs.frag).
 void main()
 {
-    if (!gl_FrontFacing) discard;
     VicpSegment seg = vicp_fragment_values(vicp_tet, ivec2(gl_FragCoord.xy));
     vec4 fb = vicp_color, diag = vicp_diagnostics;
-    if (!vicp_composite(seg, fb, diag)) discard;
+    vec4 fb_new = fb, diag_new = diag;
+    if (gl_FrontFacing && vicp_composite(seg, fb_new, diag_new)) {
+        fb = fb_new;
+        diag = diag_new;
+    }
     vicp_color = fb;
     vicp_diagnostics = diag;
 }
