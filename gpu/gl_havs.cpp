@@ -19,7 +19,6 @@ using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 constexpr const char* kFramebufferFetch = "GL_EXT_shader_framebuffer_fetch";
-constexpr const char* kInt64 = "GL_ARB_gpu_shader_int64";
 
 int entry_targets(int k) { return (k + 1) / 2; }
 
@@ -74,10 +73,9 @@ namespace {
 const HavsOptions& checked_gl_options(const GlContext& ctx, const HavsOptions& o, bool diagnostics)
 {
     const GlInfo& info = ctx.info();
-    for (const char* ext : {kFramebufferFetch, kInt64})
-        if (!info.has_extension(ext))
-            throw InputError("", std::string("the GL context (") + info.summary() + ") lacks " + ext +
-                                     ", which the GL backend of HAVS needs (docs/gl-backend.md); use --backend emu");
+    if (!info.has_extension(kFramebufferFetch))
+        throw InputError("", std::string("the GL context (") + info.summary() + ") lacks " + kFramebufferFetch +
+                                 ", which the GL backend of HAVS needs (docs/gl-backend.md); use --backend emu");
     if (o.segment == SegmentMode::exact)
         throw InputError("", "--segment exact runs only in the emulation (--backend emu): on a GPU the fragment "
                              "program samples the pre-integrated table");
@@ -104,7 +102,7 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     std::vector<std::pair<std::string, std::string>> defines = {
         {"HAVS_K", std::to_string(k)}, {"HAVS_TARGETS", std::to_string(entry_targets(k))}};
     if (diagnostics_) defines.push_back({"HAVS_DIAGNOSTICS", "1"});
-    const std::vector<std::string> extensions = {kInt64, kFramebufferFetch};
+    const std::vector<std::string> extensions = {kFramebufferFetch};
     const std::vector<std::string> files = {"preintegration_table.frag", "havs_fragment.frag", "havs.frag"};
     gl_->geometry = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"clip_position.vert", "havs_vertex.vert"}, {}, {}},
                                                 GlShaderSource{files, defines, extensions});

@@ -21,7 +21,7 @@ public:
     // Builds the CPU stage and the GL objects on `ctx` (current on this thread). With `diagnostics`, one more colour
     // attachment carries the per-pixel diagnostics (HavsFrame's fragments, max_held, ordering_errors); without, the
     // frame's diagnostic vectors stay empty and one more attachment is free for entries. Throws InputError when the
-    // context lacks what HAVS needs (GL_EXT_shader_framebuffer_fetch, GL_ARB_gpu_shader_int64), when k is outside
+    // context lacks what HAVS needs (GL_EXT_shader_framebuffer_fetch), when k is outside
     // 1 .. max_k, or with --segment exact (a GPU samples the table; the exact integral is the emulation's).
     GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
                    const TransferFunction& tf, const HavsOptions& options, bool diagnostics = true);

@@ -19,15 +19,16 @@ FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace
     out.snapped = !inside;
     out.outside = sum > 0.0 ? (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) : (e0 > 0.0 || e1 > 0.0 || e2 > 0.0);
     if (!inside) {
-        // Covered only because of snapping: the snapped triangle's exact edge functions (fixed value 256 * p is
-        // pixel p's centre).
-        const int64_t cx = int64_t(pix_x) * 256, cy = int64_t(pix_y) * 256;
+        // Covered only because of snapping: the snapped triangle's edge functions (fixed value 256 * p is pixel p's
+        // centre), integers held in double and exact (kSnappedEdgeBits).
+        const double cx = double(pix_x) * 256.0, cy = double(pix_y) * 256.0;
         auto edge = [&](int a, int b) {
-            return (int64_t(f.fx[b]) - f.fx[a]) * (cy - f.fy[a]) - (int64_t(f.fy[b]) - f.fy[a]) * (cx - f.fx[a]);
+            return (double(f.fx[b]) - double(f.fx[a])) * (cy - double(f.fy[a])) -
+                   (double(f.fy[b]) - double(f.fy[a])) * (cx - double(f.fx[a]));
         };
-        e0 = double(edge(1, 2));
-        e1 = double(edge(2, 0));
-        e2 = double(edge(0, 1));
+        e0 = edge(1, 2);
+        e1 = edge(2, 0);
+        e2 = edge(0, 1);
     }
     const double w0 = e0 * f.inv_w[0], w1 = e1 * f.inv_w[1], w2 = e2 * f.inv_w[2];
     const double inv_sum = 1.0 / ((w0 + w1) + w2);

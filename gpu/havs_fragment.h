@@ -13,8 +13,8 @@
 //     projection does not; there the weights would extrapolate, placing the fragment where there is nothing (an
 //     Oxygen Post pixel got two fragments 6 units before the mesh begins). When the pixel lies outside the triangle
 //     by more than kOutsideTolerance, the weights come instead from the snapped vertices the rasterizer used: exact
-//     integer edge functions (24.8 fixed point: differences below 2^21, products below 2^42, exact in int64 and in
-//     double), non-negative on every covered pixel, so the fragment lies inside the triangle the rasterizer drew.
+//     integer edge functions (24.8 fixed point, computed in double: see kSnappedEdgeBits), non-negative on every
+//     covered pixel, so the fragment lies inside the triangle the rasterizer drew.
 //     Each weight is divided by its vertex's clip w (perspective correction); the eye-space point is the weighted
 //     mean of the vertices' eye-space positions, its distance from the pixel's ray origin (the eye, or the image
 //     plane under orthographic projection) the radial distance of SPEC §2, and the normalized scalar the weighted
@@ -83,6 +83,15 @@ struct HavsFace {
 // where only the snapped weights keep the fragment on the mesh. Measured on Blunt Fin, the Oxygen Post and the torus
 // (docs/havs.md): 0.1 separates the two.
 inline constexpr double kOutsideTolerance = 0.1;
+
+// The snapped edge functions are integers computed in double: the fixed-point differences, their products and the
+// products' difference must all be exact, i.e. below 2^53. A drawn triangle's snapped vertices lie in the viewport
+// (the clip stage leaves nothing for the GPU to clip, and a viewport is at most 16384 = 2^14 pixels), so they and the
+// pixel centres 256 * p are below 2^22 fixed units in magnitude: differences below 2^23, products below 2^46, their
+// difference below 2^47. Exact with margin, and equal to the 64-bit integer edge functions the rasterizer uses. Double
+// rather than int64 because llvmpipe pays for GL_ARB_gpu_shader_int64's multiplies and conversions on every fragment
+// (a shader runs both sides of a branch), and because GPUs without that extension can then run the stage.
+inline constexpr int kSnappedEdgeBits = 47;
 
 // The fragment values in double before the k-buffer stores them as float32: x = side * (1 + s_n) and the distance;
 // `snapped` says whether the weights came from the snapped vertices (kOutsideTolerance), `outside` whether the pixel

@@ -7,7 +7,7 @@
 // puts in front carries the pass's defines,
 //   HAVS_K            the number of stored entries, 1 .. (draw buffers - 1) * 2 in a real pass,
 //   HAVS_DIAGNOSTICS  (optional) havs_kbuffer also updates havs_diag, the emulation's KBufferDiagnostics,
-// and enables GL_ARB_gpu_shader_int64 (the snapped edge functions are 64-bit integers, as in the emulation).
+// (The snapped edge functions are exact integers held in double, so no 64-bit integer extension is needed.)
 //
 // Bit-faithfulness. Every arithmetic result is `precise`: without it a compiler may fuse a multiply and an add,
 // reassociate, or rewrite `a - b < 0` as `a < b`. Measured on llvmpipe (Mesa 22.3.6): without `precise`, 13% of the
@@ -45,12 +45,13 @@ const double havs_outside_tolerance = 0.1lf;
 const float havs_side_outside = 4.0;
 const float havs_side_entry = 16.0;
 
-// The snapped triangle's edge function from vertex a to vertex b at the fixed-point pixel centre (cx, cy): exact in
-// 64-bit integers, as the emulation's lambda `edge`.
-int64_t havs_snapped_edge(HavsFace f, int a, int b, int64_t cx, int64_t cy)
+// The snapped triangle's edge function from vertex a to vertex b at the fixed-point pixel centre (cx, cy), as the
+// emulation's lambda `edge`: integers held in double, every operation exact (kSnappedEdgeBits in havs_fragment.h).
+double havs_snapped_edge(HavsFace f, int a, int b, double cx, double cy)
 {
-    return (int64_t(f.fx[b]) - int64_t(f.fx[a])) * (cy - int64_t(f.fy[a])) -
-           (int64_t(f.fy[b]) - int64_t(f.fy[a])) * (cx - int64_t(f.fx[a]));
+    precise double e = (double(f.fx[b]) - double(f.fx[a])) * (cy - double(f.fy[a])) -
+                       (double(f.fy[b]) - double(f.fy[a])) * (cx - double(f.fx[a]));
+    return e;
 }
 
 // The fragment values at window pixel `pix` (gl_FragCoord.xy = pix + 0.5) in double, before the entry's rounding:
@@ -70,10 +71,11 @@ dvec2 havs_fragment_values(HavsFace f, ivec2 pix)
     precise bool outside = positive ? (e0 < 0.0lf || e1 < 0.0lf || e2 < 0.0lf) : (e0 > 0.0lf || e1 > 0.0lf || e2 > 0.0lf);
     if (!inside) {
         // Covered only because of snapping: the snapped triangle's exact edge functions.
-        int64_t cx = int64_t(pix.x) * int64_t(256), cy = int64_t(pix.y) * int64_t(256);
-        e0 = double(havs_snapped_edge(f, 1, 2, cx, cy));
-        e1 = double(havs_snapped_edge(f, 2, 0, cx, cy));
-        e2 = double(havs_snapped_edge(f, 0, 1, cx, cy));
+        precise double cx = double(pix.x) * 256.0lf;
+        precise double cy = double(pix.y) * 256.0lf;
+        e0 = havs_snapped_edge(f, 1, 2, cx, cy);
+        e1 = havs_snapped_edge(f, 2, 0, cx, cy);
+        e2 = havs_snapped_edge(f, 0, 1, cx, cy);
     }
     precise double w0 = e0 * f.inv_w[0];
     precise double w1 = e1 * f.inv_w[1];

@@ -1,9 +1,11 @@
 // The k-buffer fragment program (seed 000, Appendix II) on hand-made inputs, one behaviour per case.
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <vector>
 
 #include "gpu/havs_fragment.h"
+#include "gpu/rasterize.h"
 #include "test_support.h"
 
 using namespace uvr::gpu;
@@ -192,4 +194,36 @@ TEST_CASE("fragment values: a face's distance and scalar at a pixel centre")
     CHECK(e.x == Approx(1.0 + 3.5 / 16.0).epsilon(1e-6));
     f.side = -1.0;
     CHECK(havs_fragment_entry(fc, f, 3, 2).x < 0.0f);
+}
+
+TEST_CASE("fragment values: the snapped weights are the exact integer edge functions across the largest viewport")
+{
+    // A triangle spanning a 16384-pixel viewport and a pixel far outside it (the snapped branch): the fixed-point
+    // differences reach 2^22 and the edge functions 2^44, where a float or a rounded double would lose bits
+    // (kSnappedEdgeBits). With s = (0, 1, 0) and 1 / w = 1, x = 4 (1 + e1 * (1 / (e0 + e1 + e2))) from the 64-bit
+    // integer edge functions, bit for bit (4: kSideOutside, an interior face's fragment outside its triangle).
+    HavsFrameConstants fc;
+    fc.two_over_width = fc.two_over_height = 2.0 / 16384.0;
+    HavsFace f;
+    const glm::dvec2 v[3] = {{0.7, 0.6}, {16383.3, 1.1}, {16382.9, 16383.4}};
+    for (int j = 0; j < 3; ++j) {
+        f.v[j] = v[j];
+        f.q[j] = {v[j].x, v[j].y, -1.0};
+        f.fx[j] = snap_to_fixed(float(v[j].x));
+        f.fy[j] = snap_to_fixed(float(v[j].y));
+        f.inv_w[j] = 1.0;
+        f.s[j] = j == 1 ? 1.0 : 0.0;
+    }
+    const int px = 1, py = 16380;
+    const FragmentValues got = havs_fragment_values(fc, f, px, py);
+    REQUIRE(got.snapped);
+    const int64_t cx = int64_t(px) * 256, cy = int64_t(py) * 256;
+    auto edge = [&](int a, int b) {
+        return (int64_t(f.fx[b]) - f.fx[a]) * (cy - f.fy[a]) - (int64_t(f.fy[b]) - f.fy[a]) * (cx - f.fx[a]);
+    };
+    const int64_t e0 = edge(1, 2), e1 = edge(2, 0), e2 = edge(0, 1);
+    INFO("e0 " << e0 << ", e1 " << e1 << ", e2 " << e2);
+    CHECK(std::llabs(e1) > (int64_t(1) << 43));  // the size the test is about
+    const double expected = double(kSideOutside) * (1.0 + double(e1) * (1.0 / double(e0 + e1 + e2)));
+    CHECK(got.x == expected);
 }
