@@ -13,8 +13,9 @@
 // emulation applies them.
 //
 // The opacity kill does not `discard`: a killed fragment writes back what it read, unchanged (havs_kbuffer leaves a[]
-// and fb alone when it kills), which leaves every attachment with the bits a discard would. Moves and selects do not
-// touch a float's bits, so this holds under llvmpipe's denormal flushing too. The reason is speed: a shader that can
+// and fb alone when it kills), which leaves every attachment with the bits a discard would. (llvmpipe's selects may
+// flush a denormal they move, docs/gl-backend.md "denormals"; but no attachment holds one: every value written is a
+// clear value or the result of arithmetic, which llvmpipe flushes to zero.) The reason is speed: a shader that can
 // discard costs llvmpipe about 150 ms more on a Blunt Fin frame (512 x 512, k = 6: 0.65 s against 0.49 s, same run;
 // docs/gl-backend.md, "Speed").
 

@@ -20,8 +20,8 @@ vec4 vicp_shade(float u_front, float u_back, float t_z, float seg_length)
 }
 
 // Neither a back face nor a killed fragment (the opacity kill) discards: both write back what they read, which leaves
-// the attachments' bits as a discard would (moves and selects keep a float's bits, denormals included). A shader that
-// can discard runs markedly slower on llvmpipe (shaders/havs.frag).
+// the attachments' bits as a discard would (no attachment holds a denormal a select could flush: shaders/havs.frag).
+// A shader that can discard runs markedly slower on llvmpipe (shaders/havs.frag).
 void main()
 {
     VicpSegment seg = vicp_fragment_values(vicp_tet, ivec2(gl_FragCoord.xy));
