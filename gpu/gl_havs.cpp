@@ -147,8 +147,7 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     st.table_ms = mesh_.table_ms();
     st.faces = mesh_.face_count();
 
-    // CPU stage: sort, vertex stage, clip stage; then the frame's vertex buffer and the vertex indices of every
-    // triangle in drawing order.
+    // CPU stage: sort, vertex stage, clip stage; then the frame's vertex buffer.
     const HavsFrameSetup fs = setup_havs_frame(mesh_, cam, width, height);
     st.sort_ms = fs.sort_ms;
     store_clip_stats(fs, st);
@@ -179,9 +178,9 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     ctx_.check_error("preparing the HAVS geometry pass");
     st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
 
-    // The geometry pass: the triangles in drawing order, as few draws as the storage buffer's block size allows (GL keeps
-    // primitive order across draws, so the pixels see the same sequence as from one draw). Each draw's face constants
-    // are built and uploaded just before it: the CPU never holds more than one chunk of them.
+    // The geometry pass: the triangles in drawing order, in draws of faces_per_draw() (GL keeps primitive order across
+    // draws, so the pixels see the same sequence as from one draw). Each draw's face constants and vertex indices are
+    // built and uploaded just before it: neither the CPU nor Mesa holds more than a few chunks of them.
     const std::size_t chunk = faces_per_draw();
     std::vector<GlHavsFace> records(std::min(chunk, ntris));
     std::vector<uint32_t> indices(3 * records.size());

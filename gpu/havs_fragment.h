@@ -89,8 +89,8 @@ inline constexpr double kOutsideTolerance = 0.1;
 // (the clip stage leaves nothing for the GPU to clip, and a viewport is at most 16384 = 2^14 pixels), so they and the
 // pixel centres 256 * p are below 2^22 fixed units in magnitude: differences below 2^23, products below 2^46, their
 // difference below 2^47. Exact with margin, and equal to the 64-bit integer edge functions the rasterizer uses. Double
-// rather than int64 because llvmpipe pays for GL_ARB_gpu_shader_int64's multiplies and conversions on every fragment
-// (a shader runs both sides of a branch), and because GPUs without that extension can then run the stage.
+// rather than int64 so that the shader needs no GL_ARB_gpu_shader_int64, which not every GPU driver offers (on
+// llvmpipe the two cost the same, measured on a Blunt Fin frame).
 inline constexpr int kSnappedEdgeBits = 47;
 
 // The fragment values in double before the k-buffer stores them as float32: x = side * (1 + s_n) and the distance;
