@@ -96,7 +96,8 @@ GlPlatform parse_gl_platform(const std::string& name);        // throws InputErr
     X(PFNGLUNIFORM3FPROC, Uniform3f)                                                                                \
     X(PFNGLCULLFACEPROC, CullFace)                                                                                  \
     X(PFNGLFRONTFACEPROC, FrontFace)                                                                                \
-    X(PFNGLPROVOKINGVERTEXPROC, ProvokingVertex)
+    X(PFNGLPROVOKINGVERTEXPROC, ProvokingVertex)                                                                    \
+    X(PFNGLTEXBUFFERPROC, TexBuffer)
 
 struct GlFunctions {
 #define UVR_GL_MEMBER(type, name) type name = nullptr;

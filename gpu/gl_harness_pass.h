@@ -1,6 +1,6 @@
 // The GL objects of one stage-harness pass (gpu/gl_stage_harness.cpp for HAVS, gpu/gl_vicp_harness.cpp for VICP):
-// input textures and storage buffers, a framebuffer of float or integer targets, deleted when the pass ends (also
-// when a check throws), and the reads that bring the outputs back.
+// input textures, buffer textures and storage buffers, a framebuffer of float or integer targets, deleted when the
+// pass ends (also when a check throws), and the reads that bring the outputs back.
 #pragma once
 
 #include <cstddef>
@@ -57,6 +57,21 @@ struct HarnessPass {
         gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(bytes), data, GL_STATIC_DRAW);
         gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, GLuint(binding), b);
         return b;
+    }
+    // A buffer texture of RGBA32UI texels over a new buffer holding `data` (`bytes`, whole texels) on texture unit
+    // `unit`, for texelFetch.
+    void texel_buffer(int unit, const void* data, std::size_t bytes)
+    {
+        GLuint b = 0, t = 0;
+        gl.GenBuffers(1, &b);
+        buffers.push_back(b);
+        gl.BindBuffer(GL_TEXTURE_BUFFER, b);
+        gl.BufferData(GL_TEXTURE_BUFFER, GLsizeiptr(bytes), data, GL_STATIC_DRAW);
+        gl.GenTextures(1, &t);
+        textures.push_back(t);
+        gl.ActiveTexture(GLenum(GL_TEXTURE0 + unit));
+        gl.BindTexture(GL_TEXTURE_BUFFER, t);
+        gl.TexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32UI, b);
     }
     // An FBO of colour attachments of the given formats (RGBA32F or RGBA32UI), drawn into in order, cleared to the
     // sentinel (all bits set for the integer ones).

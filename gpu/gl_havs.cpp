@@ -22,8 +22,8 @@ constexpr const char* kFramebufferFetch = "GL_EXT_shader_framebuffer_fetch";
 
 int entry_targets(int k) { return (k + 1) / 2; }
 
-// The face constants of one draw, at most: 16 MiB (83,886 faces). Each draw's constants and element indices are
-// uploaded just before it, and llvmpipe keeps a draw's storage buffer until the scene that reads it is rasterized, so
+// The face constants of one draw, at most: 16 MiB (80,659 faces). Each draw's constants and element indices are
+// uploaded just before it, and llvmpipe keeps a draw's buffers until the scene that reads it is rasterized, so
 // what the GL side holds grows with this size: at 10.1 M tetrahedra (20.3 M faces) the whole frame's element buffer
 // (12 bytes a face, twice: the CPU's and Mesa's) and 128 MiB chunks (the block size) peaked at 266 bytes per
 // tetrahedron, 16 MiB chunks with per-chunk indices at 187 (8 MiB: 186). The frame time does not move with it (Blunt
@@ -37,7 +37,7 @@ struct GlHavsRenderer::Objects {
     std::unique_ptr<GlProgram> geometry, flush;
     GLuint mesh_vao = 0, empty_vao = 0;
     GLuint vertex_buffer = 0, element_buffer = 0, face_buffer = 0;
-    GLuint table_texture = 0;
+    GLuint table_texture = 0, face_texture = 0;
     std::unique_ptr<GlFloatFramebuffer> framebuffer;  // colour, k-buffer targets, diagnostics
 
     explicit Objects(const GlFunctions& g) : gl(g) {}
@@ -51,15 +51,16 @@ struct GlHavsRenderer::Objects {
         const GLuint vaos[] = {mesh_vao, empty_vao};
         gl.DeleteVertexArrays(2, vaos);
         if (table_texture) gl.DeleteTextures(1, &table_texture);
+        if (face_texture) gl.DeleteTextures(1, &face_texture);
     }
 };
 
 std::size_t GlHavsRenderer::faces_per_draw() const
 {
     if (faces_per_draw_) return faces_per_draw_;
-    GLint64 block = 0;
-    ctx_.gl().GetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
-    const std::size_t bytes = std::min<std::size_t>(std::size_t(std::max<GLint64>(block, 0)), kFaceBytesPerDraw);
+    GLint64 texels = 0;
+    ctx_.gl().GetInteger64v(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    const std::size_t bytes = std::min<std::size_t>(16 * std::size_t(std::max<GLint64>(texels, 0)), kFaceBytesPerDraw);
     return std::max<std::size_t>(1, bytes / sizeof(GlHavsFace));
 }
 
@@ -123,6 +124,7 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, gl_->element_buffer);
     gl.BindVertexArray(0);
     gl.GenBuffers(1, &gl_->face_buffer);
+    gl.GenTextures(1, &gl_->face_texture);
 
     upload_preintegration_table(ctx_, *mesh_.table(), mesh_.options().filter, gl_->table_texture);
     gl_->framebuffer = std::make_unique<GlFloatFramebuffer>(ctx_, 1 + entry_targets(k) + (diagnostics_ ? 1 : 0),
@@ -184,7 +186,7 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     const std::size_t chunk = faces_per_draw();
     std::vector<GlHavsFace> records(std::min(chunk, ntris));
     std::vector<uint32_t> indices(3 * records.size());
-    gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, gl_->face_buffer);
+    gl.BindBuffer(GL_TEXTURE_BUFFER, gl_->face_buffer);
     for (std::size_t c0 = 0; c0 < ntris; c0 += chunk) {
         const std::size_t n = std::min(chunk, ntris - c0);
         t0 = Clock::now();
@@ -194,8 +196,8 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
             const uint32_t* v = fs.triangle(mesh_, id);
             for (std::size_t j = 0; j < 3; ++j) indices[3 * i + j] = v[j];
         });
-        gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(n * sizeof(GlHavsFace)), records.data(), GL_STREAM_DRAW);
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, gl_->face_buffer);
+        gl.BufferData(GL_TEXTURE_BUFFER, GLsizeiptr(n * sizeof(GlHavsFace)), records.data(), GL_STREAM_DRAW);
+        bind_havs_face_records(ctx_, gl_->face_texture, gl_->face_buffer);
         gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(3 * n * sizeof(uint32_t)), indices.data(), GL_STREAM_DRAW);
         st.setup_ms += ms_since(t0);
         t0 = Clock::now();

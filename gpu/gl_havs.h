@@ -5,7 +5,7 @@
 // flush passes. docs/gl-backend.md.
 //
 // Per frame: the faces go in sorted order, in consecutive chunks, one draw each: a chunk's vertex indices to an element
-// buffer and its constants (GlHavsFace, in the same order) to a shader storage buffer indexed by gl_PrimitiveID, just
+// buffer and its constants (GlHavsFace, in the same order) to a buffer texture indexed by gl_PrimitiveID, just
 // before glDrawElements draws it. GL keeps primitive order across draws.
 #pragma once
 
@@ -38,8 +38,8 @@ public:
     // asked for, two entries in each of the others.
     static int max_k(const GlInfo& info, bool diagnostics);
 
-    // Faces drawn per draw call: as many as 16 MiB of face constants hold (83,886 faces; less where
-    // GL_MAX_SHADER_STORAGE_BLOCK_SIZE is smaller), or `n` when set (tests; 0 goes back to the limit).
+    // Faces drawn per draw call: as many as 16 MiB of face constants hold (80,659 faces; less where
+    // GL_MAX_TEXTURE_BUFFER_SIZE texels hold fewer), or `n` when set (tests; 0 goes back to the limit).
     std::size_t faces_per_draw() const;
     void set_faces_per_draw(std::size_t n) { faces_per_draw_ = n; }
 

@@ -20,6 +20,14 @@ GlHavsFace pack_havs_face(const HavsFace& f)
     return g;
 }
 
+void bind_havs_face_records(const GlContext& ctx, GLuint texture, GLuint buffer)
+{
+    const GlFunctions& gl = ctx.gl();
+    gl.ActiveTexture(GLenum(GL_TEXTURE0 + kHavsFaceUnit));
+    gl.BindTexture(GL_TEXTURE_BUFFER, texture);
+    gl.TexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32UI, buffer);
+}
+
 void upload_preintegration_table(const GlContext& ctx, const PreintegrationTable& table, TextureFilter filter,
                                  GLuint& texture)
 {

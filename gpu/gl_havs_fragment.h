@@ -1,6 +1,7 @@
 // The GL side of HAVS's fragment stage (shaders/havs_fragment.frag): how the stage's inputs are laid out for the
-// shader. The per-face constants go to a shader storage buffer as GlHavsFace records (std430, scalar arrays only, so
-// the layout is the C++ struct's), the per-frame constants to uniforms.
+// shader. The per-face constants go to a buffer texture of RGBA32UI texels as GlHavsFace records (kHavsFaceTexels
+// texels a face, read with texelFetch: the bits as uploaded), the per-frame constants to uniforms. Why a buffer
+// texture and not a storage buffer: havs_fragment.frag, at havs_face_records.
 #pragma once
 
 #include <cstddef>
@@ -12,7 +13,8 @@
 
 namespace uvr::gpu {
 
-// `struct HavsFace` of havs_fragment.frag, byte for byte under std430.
+// One face record, as havs_face() of havs_fragment.frag reads its words: doubles low word first (little-endian, as
+// x86 and every GL driver this runs on store them).
 struct GlHavsFace {
     double q[9];      // eye-space positions, x y z per vertex
     double v[6];      // window coordinates, x y per vertex
@@ -20,14 +22,22 @@ struct GlHavsFace {
     double s[3];
     int32_t fx[3], fy[3];
     float side;
-    float pad;
+    float pad[3];     // to a whole texel
 };
-static_assert(sizeof(GlHavsFace) == 200 && offsetof(GlHavsFace, v) == 72 && offsetof(GlHavsFace, inv_w) == 120 &&
-                  offsetof(GlHavsFace, s) == 144 && offsetof(GlHavsFace, fx) == 168 &&
-                  offsetof(GlHavsFace, fy) == 180 && offsetof(GlHavsFace, side) == 192,
-              "GlHavsFace must match the std430 layout of HavsFace in shaders/havs_fragment.frag");
+inline constexpr int kHavsFaceTexels = 13;  // havs_face_texels of havs_fragment.frag
+inline constexpr int kHavsFaceUnit = 5;     // the texture unit of the records (binding = 5 there)
+// The word offsets havs_face() uses: q 0, v 18, inv_w 30, s 36, fx 42, fy 45, side 48.
+static_assert(sizeof(GlHavsFace) == 16 * kHavsFaceTexels && offsetof(GlHavsFace, v) == 4 * 18 &&
+                  offsetof(GlHavsFace, inv_w) == 4 * 30 && offsetof(GlHavsFace, s) == 4 * 36 &&
+                  offsetof(GlHavsFace, fx) == 4 * 42 && offsetof(GlHavsFace, fy) == 4 * 45 &&
+                  offsetof(GlHavsFace, side) == 4 * 48,
+              "GlHavsFace must match the words havs_face() reads in shaders/havs_fragment.frag");
 
 GlHavsFace pack_havs_face(const HavsFace& f);
+
+// Points the buffer texture `texture` (on texture unit kHavsFaceUnit) at `buffer`'s records as RGBA32UI texels.
+// Leaves that unit active.
+void bind_havs_face_records(const GlContext& ctx, GLuint texture, GLuint buffer);
 
 // Uploads `table` as the 3D texture preintegration_table.frag samples (texture unit 4; GL_RGBA32F, GL_RGBA16 or GL_RGBA8 after its
 // format, data() as it is), with `filter` for magnification and minification and CLAMP_TO_EDGE. Creates `texture`

@@ -178,7 +178,7 @@ std::vector<KEntry> GlHavsFragmentHarness::run_entry(const HavsFrameConstants& f
             pix[i] = pixels[base + i];
         }
         HarnessPass pass(gl);
-        pass.storage(0, packed.data(), packed.size() * sizeof(GlHavsFace));
+        pass.texel_buffer(kHavsFaceUnit, packed.data(), packed.size() * sizeof(GlHavsFace));
         pass.storage(1, pix.data(), pix.size() * sizeof(glm::ivec2));
         pass.targets(ctx_, {GL_RGBA32F, GL_RGBA32UI}, w, h);
         gl.DrawArrays(GL_TRIANGLES, 0, 3);

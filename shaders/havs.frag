@@ -44,7 +44,7 @@ void main()
 #else
     // The face's constants, in sorted order (gl_PrimitiveID counts the draw's triangles). A boundary face arrives with
     // side -1 (an exit) and stays one only when the rasterizer sees it back-facing; front-facing, it is an entry.
-    HavsFace f = havs_faces[gl_PrimitiveID];
+    HavsFace f = havs_face(gl_PrimitiveID);
     if (f.side < 0.0 && gl_FrontFacing) f.side = havs_side_entry;
     vec2 a0 = havs_fragment_entry(f, ivec2(gl_FragCoord.xy));
 #endif

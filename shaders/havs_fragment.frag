@@ -23,8 +23,7 @@ uniform float havs_threshold;                               // the opacity kill
 uniform float havs_length_scale, havs_length_bias;          // the seed's sz.z and sz.w
 uniform float havs_max_gap;                                 // segments longer than this contribute nothing (0: none)
 
-// ---- Per-face constants (HavsFace), flat, from a shader storage buffer ----
-// Scalar arrays only, so that the std430 layout is plain: 200 bytes a face (GlHavsFace, gpu/gl_havs_fragment.h).
+// ---- Per-face constants (HavsFace), flat, from a buffer texture ----
 struct HavsFace {
     double q[9];      // eye-space positions of the three vertices, x y z each
     double v[6];      // window coordinates of the vertices, x y each
@@ -33,9 +32,43 @@ struct HavsFace {
     int fx[3];        // the rasterizer's snapped vertices (24.8 fixed point)
     int fy[3];
     float side;       // -1 exit, 1 interior, 16 entry face (kSideExit, kSideInterior, kSideEntry)
-    float pad;
 };
-layout(std430, binding = 0) readonly buffer HavsFaces { HavsFace havs_faces[]; };
+
+// The records: GlHavsFace of gpu/gl_havs_fragment.h, havs_face_texels RGBA32UI texels a face, read with texelFetch
+// (the bits as uploaded: doubles reassembled from their two words). A buffer texture, not a shader storage buffer,
+// for speed: llvmpipe reads a storage buffer at an index it cannot prove uniform (gl_PrimitiveID is not, to it) one
+// lane and one scalar at a time, 50 scalar loads a fragment here, while a texel fetch is one gather per channel; on a
+// Blunt Fin frame the storage buffer cost about 180 ms of 0.55 s (docs/gl-backend.md, "Speed").
+layout(binding = 5) uniform usamplerBuffer havs_face_records;  // kHavsFaceUnit
+const int havs_face_texels = 13;  // kHavsFaceTexels
+
+// Record `id`'s words 2i and 2i + 1 (low word first, as the CPU's little-endian double) as a double.
+double havs_record_double(uint w[4 * havs_face_texels], int i)
+{
+    return packDouble2x32(uvec2(w[2 * i], w[2 * i + 1]));
+}
+
+HavsFace havs_face(int id)
+{
+    uint w[4 * havs_face_texels];
+    for (int t = 0; t < havs_face_texels; ++t) {
+        uvec4 texel = texelFetch(havs_face_records, havs_face_texels * id + t);
+        w[4 * t] = texel.x;
+        w[4 * t + 1] = texel.y;
+        w[4 * t + 2] = texel.z;
+        w[4 * t + 3] = texel.w;
+    }
+    // Word offsets: q 0, v 18, inv_w 30, s 36, fx 42, fy 45, side 48 (the static_assert on GlHavsFace).
+    HavsFace f;
+    for (int i = 0; i < 9; ++i) f.q[i] = havs_record_double(w, i);
+    for (int i = 0; i < 6; ++i) f.v[i] = havs_record_double(w, 9 + i);
+    for (int i = 0; i < 3; ++i) f.inv_w[i] = havs_record_double(w, 15 + i);
+    for (int i = 0; i < 3; ++i) f.s[i] = havs_record_double(w, 18 + i);
+    for (int i = 0; i < 3; ++i) f.fx[i] = int(w[42 + i]);
+    for (int i = 0; i < 3; ++i) f.fy[i] = int(w[45 + i]);
+    f.side = uintBitsToFloat(w[48]);
+    return f;
+}
 
 // kOutsideTolerance of gpu/havs_fragment.h.
 const double havs_outside_tolerance = 0.1lf;

@@ -1,6 +1,6 @@
 // Runs the HAVS fragment stage (havs_fragment.frag, compiled in front of this file) alone on inputs laid out per
 // pixel: one test case per pixel of a full-screen pass (gpu/gl_stage_harness.cpp). Exactly one of
-//   HARNESS_ENTRY     havs_fragment_entry on face havs_faces[case] at pixel harness_pixels[case]
+//   HARNESS_ENTRY     havs_fragment_entry on face havs_face(case) at pixel harness_pixels[case]
 //   HARNESS_KBUFFER   havs_kbuffer on the case's stored entries, framebuffer colour and incoming entry
 // is defined; with HARNESS_KBUFFER, HARNESS_SHADE_TABLE looks segments up in the real 3D table
 // (preintegration_table.frag), otherwise havs_shade returns the case's colour from a texture, isolating the k-buffer
@@ -23,8 +23,8 @@ vec4 havs_shade(float u_front, float u_back, float t_z, float seg_length) { retu
 void main()
 {
     int i = harness_case();
-    out_entry = vec4(havs_fragment_entry(havs_faces[i], harness_pixels[i]), 0.0, 0.0);
-    dvec2 d = havs_fragment_values(havs_faces[i], harness_pixels[i]);
+    out_entry = vec4(havs_fragment_entry(havs_face(i), harness_pixels[i]), 0.0, 0.0);
+    dvec2 d = havs_fragment_values(havs_face(i), harness_pixels[i]);
     out_values = uvec4(unpackDouble2x32(d.x), unpackDouble2x32(d.y));
 }
 
