@@ -68,6 +68,46 @@ glm::vec4 sample_nearest(const TextureView& tex, const float* coord, int dims)
     return texel_fetch(tex, i[0], i[1], i[2]);
 }
 
+glm::vec4 sample_linear_aos(const TextureView& tex, const float* coord, int dims, const LlvmpipeCpu& cpu)
+{
+    // lp_bld_sample_aos.c, lp_build_sample_image_linear + lp_build_sample_fetch_image_linear: the same lerp tree
+    // as the SoA path (lp_build_reduce_filter_2d / _3d -> lp_build_lerp_2d / _3d, x first, then y, then z), but on
+    // bytes with 8-bit weights (LP_BLD_LERP_PRESCALED_WEIGHTS), each intermediate result rounded back to a byte.
+    // The filtered bytes become floats once, at the end (lp_build_rgba8_to_fi32_soa ->
+    // lp_build_unsigned_norm_to_float(8)).
+    const LinearTaps8 tx = wrap_linear_aos(coord[0], tex.width);
+    const LinearTaps8 ty = wrap_linear_aos(coord[1], tex.height);
+    const LinearTaps8 tz = dims == 3 ? wrap_linear_aos(coord[2], tex.depth) : LinearTaps8{0, 0, 0};
+    const bool rounds = cpu.lerp8_rounds;
+    glm::vec4 out;
+    for (int c = 0; c < 4; ++c) {
+        auto slice = [&](int z) {
+            const uint8_t v00 = fetch_byte(tex, texel_index(tex, tx.i0, ty.i0, z), c);
+            const uint8_t v01 = fetch_byte(tex, texel_index(tex, tx.i1, ty.i0, z), c);
+            const uint8_t v10 = fetch_byte(tex, texel_index(tex, tx.i0, ty.i1, z), c);
+            const uint8_t v11 = fetch_byte(tex, texel_index(tex, tx.i1, ty.i1, z), c);
+            const uint8_t r0 = lerp_unorm8(tx.weight, v00, v01, rounds);
+            const uint8_t r1 = lerp_unorm8(tx.weight, v10, v11, rounds);
+            return lerp_unorm8(ty.weight, r0, r1, rounds);
+        };
+        const uint8_t c0 = slice(tz.i0);
+        out[c] = unorm8_to_float(dims == 3 ? lerp_unorm8(tz.weight, c0, slice(tz.i1), rounds) : c0);
+    }
+    return out;
+}
+
+glm::vec4 sample_any(const TextureView& tex, const float* coord, int dims, TextureFilter filter,
+                     const LlvmpipeCpu& cpu)
+{
+    if (filter == TextureFilter::nearest) return sample_nearest(tex, coord, dims);
+    if (sample_path(tex.format) == SamplePath::aos_unorm8) return sample_linear_aos(tex, coord, dims, cpu);
+    if (tex.format == TexelFormat::f32 && tex.channels == 4 && cpu.fma && host_has_fma())
+        return sample_linear_f32x4_fma(tex, coord, dims);
+    return sample_linear_soa(tex, coord, dims, cpu);
+}
+
+}  // namespace
+
 glm::vec4 sample_linear_soa(const TextureView& tex, const float* coord, int dims, const LlvmpipeCpu& cpu)
 {
     // lp_build_sample_image_linear: the taps of each axis, the four texels of slice z0 filtered by
@@ -102,44 +142,6 @@ glm::vec4 sample_linear_soa(const TextureView& tex, const float* coord, int dims
     }
     return out;
 }
-
-glm::vec4 sample_linear_aos(const TextureView& tex, const float* coord, int dims, const LlvmpipeCpu& cpu)
-{
-    // lp_bld_sample_aos.c, lp_build_sample_image_linear + lp_build_sample_fetch_image_linear: the same lerp tree
-    // as the SoA path (lp_build_reduce_filter_2d / _3d -> lp_build_lerp_2d / _3d, x first, then y, then z), but on
-    // bytes with 8-bit weights (LP_BLD_LERP_PRESCALED_WEIGHTS), each intermediate result rounded back to a byte.
-    // The filtered bytes become floats once, at the end (lp_build_rgba8_to_fi32_soa ->
-    // lp_build_unsigned_norm_to_float(8)).
-    const LinearTaps8 tx = wrap_linear_aos(coord[0], tex.width);
-    const LinearTaps8 ty = wrap_linear_aos(coord[1], tex.height);
-    const LinearTaps8 tz = dims == 3 ? wrap_linear_aos(coord[2], tex.depth) : LinearTaps8{0, 0, 0};
-    const bool rounds = cpu.lerp8_rounds;
-    glm::vec4 out;
-    for (int c = 0; c < 4; ++c) {
-        auto slice = [&](int z) {
-            const uint8_t v00 = fetch_byte(tex, texel_index(tex, tx.i0, ty.i0, z), c);
-            const uint8_t v01 = fetch_byte(tex, texel_index(tex, tx.i1, ty.i0, z), c);
-            const uint8_t v10 = fetch_byte(tex, texel_index(tex, tx.i0, ty.i1, z), c);
-            const uint8_t v11 = fetch_byte(tex, texel_index(tex, tx.i1, ty.i1, z), c);
-            const uint8_t r0 = lerp_unorm8(tx.weight, v00, v01, rounds);
-            const uint8_t r1 = lerp_unorm8(tx.weight, v10, v11, rounds);
-            return lerp_unorm8(ty.weight, r0, r1, rounds);
-        };
-        const uint8_t c0 = slice(tz.i0);
-        out[c] = unorm8_to_float(dims == 3 ? lerp_unorm8(tz.weight, c0, slice(tz.i1), rounds) : c0);
-    }
-    return out;
-}
-
-glm::vec4 sample_any(const TextureView& tex, const float* coord, int dims, TextureFilter filter,
-                     const LlvmpipeCpu& cpu)
-{
-    if (filter == TextureFilter::nearest) return sample_nearest(tex, coord, dims);
-    if (sample_path(tex.format) == SamplePath::aos_unorm8) return sample_linear_aos(tex, coord, dims, cpu);
-    return sample_linear_soa(tex, coord, dims, cpu);
-}
-
-}  // namespace
 
 const char* texel_format_name(TexelFormat f)
 {
@@ -290,35 +292,6 @@ int32_t wrap_nearest_aos(float coord, int size)
     const float c = coord * static_cast<float>(size);
     const int32_t i = x86_cvtt(std::floor(c));
     return std::min(std::max(i, int32_t(0)), int32_t(size - 1));
-}
-
-/*
- * SoA linear, CLAMP_TO_EDGE (lp_build_sample_wrap_linear, not gather):
- *   c = coord * size                        float multiply, one rounding
- *   c = min(c, size)                        lp_build_min_ext(.., GALLIVM_NAN_RETURN_OTHER_SECOND_NONNAN): NaN -> size
- *   c = c - 0.5                             float subtract: exact for c < 2^23 (results below 0 are clamped next)
- *   c = max(c, 0)                           so c is in [0, size - 0.5]: no NaN, no infinity left
- *   i0 = (int) floor(c), w = c - floor(c)   lp_build_ifloor_fract with roundps floor; the subtraction is exact
- *   i1 = min(i0 + 1, size - 1)              i0 itself never exceeds size - 1 (c <= size - 0.5)
- * Below the first texel centre c clamps to 0 (weight 0), beyond the last one i0 = i1 = size - 1.
- */
-LinearTaps wrap_linear_soa(float coord, int size)
-{
-    const float size_f = static_cast<float>(size);
-    float c = coord * size_f;
-    c = c < size_f ? c : size_f;
-    c = c - 0.5f;
-    c = c > 0.0f ? c : 0.0f;
-    // c is now finite and in [0, size - 0.5] (a NaN took the first select's false side, size; the second clamps below),
-    // so truncation is floor, exactly: the same bits as std::floor without its library call (15 % of an emulated HAVS
-    // frame's time went to this function).
-    const int32_t i0 = static_cast<int32_t>(c);
-    const float fl = static_cast<float>(i0);
-    LinearTaps taps;
-    taps.weight = c - fl;
-    taps.i0 = i0;
-    taps.i1 = std::min(taps.i0 + 1, int32_t(size - 1));
-    return taps;
 }
 
 /*

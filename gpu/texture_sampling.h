@@ -15,6 +15,7 @@
 // explicit std::fma below fuses.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 
 #include <glm/vec4.hpp>
@@ -86,8 +87,37 @@ struct LinearTaps8 {  // AoS 8-bit path
 };
 int32_t wrap_nearest_soa(float coord, int size);
 int32_t wrap_nearest_aos(float coord, int size);
-LinearTaps wrap_linear_soa(float coord, int size);
 LinearTaps8 wrap_linear_aos(float coord, int size);
+
+/*
+ * SoA linear, CLAMP_TO_EDGE (lp_build_sample_wrap_linear, not gather):
+ *   c = coord * size                        float multiply, one rounding
+ *   c = min(c, size)                        lp_build_min_ext(.., GALLIVM_NAN_RETURN_OTHER_SECOND_NONNAN): NaN -> size
+ *   c = c - 0.5                             float subtract: exact for c < 2^23 (results below 0 are clamped next)
+ *   c = max(c, 0)                           so c is in [0, size - 0.5]: no NaN, no infinity left
+ *   i0 = (int) floor(c), w = c - floor(c)   lp_build_ifloor_fract with roundps floor; the subtraction is exact
+ *   i1 = min(i0 + 1, size - 1)              i0 itself never exceeds size - 1 (c <= size - 0.5)
+ * Below the first texel centre c clamps to 0 (weight 0), beyond the last one i0 = i1 = size - 1.
+ */
+inline LinearTaps wrap_linear_soa(float coord, int size)
+{
+    const float size_f = static_cast<float>(size);
+    float c = coord * size_f;
+    c = c < size_f ? c : size_f;
+    c = c - 0.5f;
+    c = c > 0.0f ? c : 0.0f;
+    // c is now finite and in [0, size - 0.5] (a NaN took the first select's false side, size; the second clamps below),
+    // so truncation is floor, exactly: the same bits as std::floor without its library call (15 % of an emulated HAVS
+    // frame's time went to this function). Inline, in the header: it is on every emulated texture lookup.
+    const int32_t i0 = static_cast<int32_t>(c);
+    const float fl = static_cast<float>(i0);
+    LinearTaps taps;
+    taps.weight = c - fl;
+    taps.i0 = i0;
+    taps.i1 = std::min(taps.i0 + 1, int32_t(size - 1));
+    return taps;
+}
+
 
 // Which path llvmpipe takes for a format (CLAMP_TO_EDGE, no mipmaps, equal filters): AoS for u8, SoA otherwise.
 enum class SamplePath { soa_float, aos_unorm8 };
@@ -95,6 +125,15 @@ SamplePath sample_path(TexelFormat f);
 
 // One texel converted to float as llvmpipe's fetch does (1-channel textures read as (r, 0, 0, 1)).
 glm::vec4 texel_fetch(const TextureView& tex, int x, int y, int z = 0);
+
+// The SoA linear filter (f32 and u16 formats), the plain path: channel by channel, as the Mesa comments trace it.
+// `coord` holds `dims` (2 or 3) coordinates.
+glm::vec4 sample_linear_soa(const TextureView& tex, const float* coord, int dims, const LlvmpipeCpu& cpu);
+// Its fast path (texture_sampling_fma.cpp) for 4-channel f32 textures when both the emulated llvmpipe and this host
+// fuse (cpu.fma and host_has_fma()): the same bits, four channels at once. sample_2d and sample_3d take it where it
+// applies; the test calls both paths.
+bool host_has_fma();
+glm::vec4 sample_linear_f32x4_fma(const TextureView& tex, const float* coord, int dims);
 
 // texture(sampler2D, vec2(s, t)) and texture(sampler3D, vec3(s, t, r)) with the given filter on both min and mag.
 glm::vec4 sample_2d(const TextureView& tex, float s, float t, TextureFilter filter, const LlvmpipeCpu& cpu);

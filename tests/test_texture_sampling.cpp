@@ -377,3 +377,60 @@ TEST_CASE("3D linear samples equal the values OSMesa 22.3.6 (llvmpipe, x86-64 wi
         CHECK(differ == 2);
     }
 }
+
+TEST_CASE("the FMA fast path of the float linear filter gives the plain path's bits")
+{
+    // Texels over the whole float range (random bit patterns, finite, denormals included), not only the table's
+    // [0, 1]: the two paths must agree on every rounding, not on typical values.
+    const bool fast = host_has_fma();
+    INFO("host has FMA3: " << fast << " (without it the fast path is never taken and this checks nothing else)");
+    REQUIRE(fast == host_llvmpipe_cpu().fma);
+    if (!fast) return;
+    std::mt19937 rng(11);
+    auto random_float = [&] {
+        for (;;) {
+            const uint32_t bits = rng();
+            float f;
+            std::memcpy(&f, &bits, 4);
+            if (std::isfinite(f)) return f;
+        }
+    };
+    std::uniform_real_distribution<float> u(-0.1f, 1.1f);
+    const float specials[] = {0.0f, -0.0f, 1.0f, 0.5f, 1e-30f, -1e-30f, 2e-45f, 0.999999f, 1.0000001f,
+                              kInf, -kInf, kNaN, 3e9f, -3e9f};
+    for (int dims = 2; dims <= 3; ++dims) {
+        const int w = 17, h = 9, d = dims == 3 ? 5 : 1;
+        std::vector<float> texels(std::size_t(w) * h * d * 4);
+        for (float& t : texels) t = random_float();
+        const TextureView view{TexelFormat::f32, 4, w, h, d, texels.data()};
+        auto check = [&](const float* coord) {
+            const glm::vec4 plain = sample_linear_soa(view, coord, dims, kRecordedCpu);
+            const glm::vec4 fma = sample_linear_f32x4_fma(view, coord, dims);
+            INFO(dims << "D at (" << coord[0] << ", " << coord[1] << ", " << coord[2] << "): plain (" << plain.r
+                      << ", " << plain.g << ", " << plain.b << ", " << plain.a << "), fast (" << fma.r << ", "
+                      << fma.g << ", " << fma.b << ", " << fma.a << ")");
+            CHECK(same_bits(plain, fma));
+        };
+        SECTION(std::to_string(dims) + "D: random coordinates and texels")
+        {
+            for (int i = 0; i < 200000; ++i) {
+                const float coord[3] = {u(rng), u(rng), u(rng)};
+                check(coord);
+            }
+        }
+        SECTION(std::to_string(dims) + "D: texel centres, edges, NaN, infinities, huge and tiny coordinates")
+        {
+            for (float a : specials)
+                for (float b : specials)
+                    for (float c : {0.25f, kNaN, 1.0f}) {
+                        const float coord[3] = {a, b, c};
+                        check(coord);
+                    }
+            for (int x = 0; x < w; ++x) {
+                const float centre = (float(x) + 0.5f) / float(w);
+                const float coord[3] = {centre, centre, centre};
+                check(coord);
+            }
+        }
+    }
+}
