@@ -210,11 +210,11 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     ctx_.check_error("the HAVS geometry pass");
     st.raster_fragment_ms += ms_since(t0);
 
-    // The flush passes: k full-screen passes of the flush fragment.
+    // The flush: one full-screen pass running the program k times on the flush fragment (shaders/havs.frag).
     t0 = Clock::now();
     use(*gl_->flush);
     gl.BindVertexArray(gl_->empty_vao);
-    for (int pass = 0; pass < k; ++pass) gl.DrawArrays(GL_TRIANGLES, 0, 3);
+    gl.DrawArrays(GL_TRIANGLES, 0, 3);
     gl.Finish();
     ctx_.check_error("the HAVS flush passes");
     st.flush_ms = ms_since(t0);

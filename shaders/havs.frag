@@ -2,7 +2,7 @@
 // driver). havs_fragment.frag is compiled in front of this file; the prelude defines
 //   HAVS_K             the number of stored entries
 //   HAVS_TARGETS       the k-buffer's colour attachments, (HAVS_K + 1) / 2: two entries (x, y) a texel, as in the seed
-//   HAVS_PASS_FLUSH    for the flush pass (a full-screen triangle); absent for the geometry pass (the sorted faces)
+//   HAVS_PASS_FLUSH    for the flush pass (a full-screen triangle, k runs a pixel); absent for the geometry pass
 //   HAVS_DIAGNOSTICS   when the per-pixel diagnostics go to one more attachment
 //
 // Read-modify-write of the k-buffer. The seed reads its k-buffer as textures bound to the very targets it renders
@@ -39,16 +39,17 @@ void main()
     havs_diag = havs_diagnostics;
 #endif
 #ifdef HAVS_PASS_FLUSH
-    // kFlushFragment: (-1, +inf).
-    vec2 a0 = vec2(-1.0, uintBitsToFloat(0x7f800000u));
+    // The flush: k runs of the program on kFlushFragment (-1, +inf), one after the other, in one full-screen pass.
+    // Each pixel sees the same k runs in the same order as from k passes of one run each (the emulation's loop in
+    // gpu/havs.cpp), with one fetch and one store of the attachments instead of k.
+    for (int run = 0; run < HAVS_K; ++run) havs_kbuffer(vec2(-1.0, uintBitsToFloat(0x7f800000u)), a, fb);
 #else
     // The face's constants, in sorted order (gl_PrimitiveID counts the draw's triangles). A boundary face arrives with
     // side -1 (an exit) and stays one only when the rasterizer sees it back-facing; front-facing, it is an entry.
     HavsFace f = havs_face(gl_PrimitiveID);
     if (f.side < 0.0 && gl_FrontFacing) f.side = havs_side_entry;
-    vec2 a0 = havs_fragment_entry(f, ivec2(gl_FragCoord.xy));
+    havs_kbuffer(havs_fragment_entry(f, ivec2(gl_FragCoord.xy)), a, fb);  // false (killed): a[] and fb are as read
 #endif
-    havs_kbuffer(a0, a, fb);  // false (killed): a[] and fb are as read
     havs_color = fb;
     for (int t = 0; t < HAVS_TARGETS; ++t) {
         vec4 texel = havs_entries[t];
