@@ -16,21 +16,21 @@ namespace uvr::gpu {
 // One face record, as havs_face() of havs_fragment.frag reads its words: doubles low word first (little-endian, as
 // x86 and every GL driver this runs on store them).
 struct GlHavsFace {
-    double q[9];      // eye-space positions, x y z per vertex
     double v[6];      // window coordinates, x y per vertex
-    double inv_w[3];
-    double s[3];
+    float q[9];       // eye-space positions, x y z per vertex
+    float inv_w[3];
+    float s[3];
     int32_t fx[3], fy[3];
     float side;
-    float pad[3];     // to a whole texel
+    float pad[2];     // to a whole texel
 };
-inline constexpr int kHavsFaceTexels = 13;  // havs_face_texels of havs_fragment.frag
-inline constexpr int kHavsFaceUnit = 5;     // the texture unit of the records (binding = 5 there)
-// The word offsets havs_face() uses: q 0, v 18, inv_w 30, s 36, fx 42, fy 45, side 48.
-static_assert(sizeof(GlHavsFace) == 16 * kHavsFaceTexels && offsetof(GlHavsFace, v) == 4 * 18 &&
-                  offsetof(GlHavsFace, inv_w) == 4 * 30 && offsetof(GlHavsFace, s) == 4 * 36 &&
-                  offsetof(GlHavsFace, fx) == 4 * 42 && offsetof(GlHavsFace, fy) == 4 * 45 &&
-                  offsetof(GlHavsFace, side) == 4 * 48,
+inline constexpr int kHavsFaceTexels = 9;  // havs_face_texels of havs_fragment.frag
+inline constexpr int kHavsFaceUnit = 5;    // the texture unit of the records (binding = 5 there)
+// The word offsets havs_face() uses: v 0, q 12, inv_w 21, s 24, fx 27, fy 30, side 33.
+static_assert(sizeof(GlHavsFace) == 16 * kHavsFaceTexels && offsetof(GlHavsFace, q) == 4 * 12 &&
+                  offsetof(GlHavsFace, inv_w) == 4 * 21 && offsetof(GlHavsFace, s) == 4 * 24 &&
+                  offsetof(GlHavsFace, fx) == 4 * 27 && offsetof(GlHavsFace, fy) == 4 * 30 &&
+                  offsetof(GlHavsFace, side) == 4 * 33,
               "GlHavsFace must match the words havs_face() reads in shaders/havs_fragment.frag");
 
 GlHavsFace pack_havs_face(const HavsFace& f);

@@ -30,18 +30,19 @@ FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace
         e1 = edge(2, 0);
         e2 = edge(0, 1);
     }
-    const double w0 = e0 * f.inv_w[0], w1 = e1 * f.inv_w[1], w2 = e2 * f.inv_w[2];
+    // The float constants widen exactly to double (as the shader's double() does).
+    const double w0 = e0 * double(f.inv_w[0]), w1 = e1 * double(f.inv_w[1]), w2 = e2 * double(f.inv_w[2]);
     const double inv_sum = 1.0 / ((w0 + w1) + w2);
     const double l0 = w0 * inv_sum, l1 = w1 * inv_sum, l2 = w2 * inv_sum;
     // The eye-space point, and its distance from the pixel's ray origin o = (ndc_x * ox, ndc_y * oy, 0).
-    const double px = (l0 * f.q[0].x + l1 * f.q[1].x) + l2 * f.q[2].x;
-    const double py = (l0 * f.q[0].y + l1 * f.q[1].y) + l2 * f.q[2].y;
-    const double pz = (l0 * f.q[0].z + l1 * f.q[1].z) + l2 * f.q[2].z;
+    const double px = (l0 * double(f.q[0].x) + l1 * double(f.q[1].x)) + l2 * double(f.q[2].x);
+    const double py = (l0 * double(f.q[0].y) + l1 * double(f.q[1].y)) + l2 * double(f.q[2].y);
+    const double pz = (l0 * double(f.q[0].z) + l1 * double(f.q[1].z)) + l2 * double(f.q[2].z);
     const double ndc_x = fx * fc.two_over_width - 1.0;
     const double ndc_y = fy * fc.two_over_height - 1.0;
     const double dx = px - ndc_x * fc.origin_x, dy = py - ndc_y * fc.origin_y;
     const double distance = std::sqrt((dx * dx + dy * dy) + pz * pz);
-    const double s = (l0 * f.s[0] + l1 * f.s[1]) + l2 * f.s[2];
+    const double s = (l0 * double(f.s[0]) + l1 * double(f.s[1])) + l2 * double(f.s[2]);
     const double side = f.side == kSideInterior && out.outside ? kSideOutside : f.side;
     out.x = side * (1.0 + s);
     out.distance = distance;

@@ -64,13 +64,19 @@ struct HavsFrameConstants {
     float max_gap = 0.0f;  // segments longer than this contribute nothing (the longest edge; 0 = no limit)
 };
 
-// Per-face constants (flat), computed by the CPU stage (havs.cpp) in double and rounded to float once.
+// Per-face constants (flat), computed by the CPU stage (havs_setup.cpp) in double. The window coordinates stay
+// double: the edge functions subtract them from the pixel centre, and a float's 3e-5 pixel at 512 would move
+// fragments on faces a fraction of a pixel across (see the header). The vertices' eye-space positions, 1 / w and
+// scalars are rounded to float once: they enter only as the weighted mean's values and relative weights, where a
+// float's 6e-8 relative error is below the stored entry's own float rounding, and a vertex rounds the same in every
+// face that shares it, so faces still meet. In float they make the GL record 9 texels instead of 13, and each texel
+// fetch costs llvmpipe about 3 ms of a Blunt Fin frame (docs/gl-backend.md, "Speed").
 struct HavsFace {
-    glm::dvec3 q[3];                      // eye-space positions of the vertices
+    glm::vec3 q[3];                       // eye-space positions of the vertices
     glm::dvec2 v[3];                      // window coordinates of the vertices (window_position_d)
     int32_t fx[3] = {0, 0, 0}, fy[3] = {0, 0, 0};  // the rasterizer's snapped vertices (viewport_transform, 24.8)
-    double inv_w[3] = {0, 0, 0};          // 1 / clip w of each vertex
-    double s[3] = {0, 0, 0};              // normalized scalar of each vertex, in [0, 1]
+    float inv_w[3] = {0, 0, 0};           // 1 / clip w of each vertex
+    float s[3] = {0, 0, 0};               // normalized scalar of each vertex, in [0, 1]
     float side = 1.0f;                    // kSideExit, kSideInterior or kSideEntry (see the entry encoding)
 };
 

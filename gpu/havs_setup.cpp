@@ -246,12 +246,12 @@ HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint3
     const std::size_t npts = hm.mesh().points.size();
     HavsFace face;
     for (int j = 0; j < 3; ++j) {
-        face.q[j] = fs.eye[v[j]];
+        face.q[j] = glm::vec3(fs.eye[v[j]]);  // rounded to float once (HavsFace)
         face.v[j] = glm::dvec2(fs.win_d[v[j]].x, fs.win_d[v[j]].y);
         face.fx[j] = snap_to_fixed(fs.win[v[j]].x);
         face.fy[j] = snap_to_fixed(fs.win[v[j]].y);
-        face.inv_w[j] = fs.win_d[v[j]].z;
-        face.s[j] = v[j] < npts ? hm.scalar_n(v[j]) : fs.extra_s[v[j] - npts];
+        face.inv_w[j] = float(fs.win_d[v[j]].z);
+        face.s[j] = float(v[j] < npts ? hm.scalar_n(v[j]) : fs.extra_s[v[j] - npts]);
     }
     const uint32_t source = id < fs.mesh_faces ? id : fs.extra_face[id - fs.mesh_faces];
     face.side = source != kNearSection && hm.exit_capable(source) ? kSideExit : kSideInterior;

@@ -25,10 +25,10 @@ uniform float havs_max_gap;                                 // segments longer t
 
 // ---- Per-face constants (HavsFace), flat, from a buffer texture ----
 struct HavsFace {
-    double q[9];      // eye-space positions of the three vertices, x y z each
     double v[6];      // window coordinates of the vertices, x y each
-    double inv_w[3];  // 1 / clip w
-    double s[3];      // normalized scalars
+    float q[9];       // eye-space positions of the three vertices, x y z each (float: HavsFace in havs_fragment.h)
+    float inv_w[3];   // 1 / clip w
+    float s[3];       // normalized scalars
     int fx[3];        // the rasterizer's snapped vertices (24.8 fixed point)
     int fy[3];
     float side;       // -1 exit, 1 interior, 16 entry face (kSideExit, kSideInterior, kSideEntry)
@@ -40,7 +40,7 @@ struct HavsFace {
 // lane and one scalar at a time, 50 scalar loads a fragment here, while a texel fetch is one gather per channel; on a
 // Blunt Fin frame the storage buffer cost about 180 ms of 0.55 s (docs/gl-backend.md, "Speed").
 layout(binding = 5) uniform usamplerBuffer havs_face_records;  // kHavsFaceUnit
-const int havs_face_texels = 13;  // kHavsFaceTexels
+const int havs_face_texels = 9;  // kHavsFaceTexels
 
 // Record `id`'s words 2i and 2i + 1 (low word first, as the CPU's little-endian double) as a double.
 double havs_record_double(uint w[4 * havs_face_texels], int i)
@@ -58,15 +58,15 @@ HavsFace havs_face(int id)
         w[4 * t + 2] = texel.z;
         w[4 * t + 3] = texel.w;
     }
-    // Word offsets: q 0, v 18, inv_w 30, s 36, fx 42, fy 45, side 48 (the static_assert on GlHavsFace).
+    // Word offsets: v 0, q 12, inv_w 21, s 24, fx 27, fy 30, side 33 (the static_assert on GlHavsFace).
     HavsFace f;
-    for (int i = 0; i < 9; ++i) f.q[i] = havs_record_double(w, i);
-    for (int i = 0; i < 6; ++i) f.v[i] = havs_record_double(w, 9 + i);
-    for (int i = 0; i < 3; ++i) f.inv_w[i] = havs_record_double(w, 15 + i);
-    for (int i = 0; i < 3; ++i) f.s[i] = havs_record_double(w, 18 + i);
-    for (int i = 0; i < 3; ++i) f.fx[i] = int(w[42 + i]);
-    for (int i = 0; i < 3; ++i) f.fy[i] = int(w[45 + i]);
-    f.side = uintBitsToFloat(w[48]);
+    for (int i = 0; i < 6; ++i) f.v[i] = havs_record_double(w, i);
+    for (int i = 0; i < 9; ++i) f.q[i] = uintBitsToFloat(w[12 + i]);
+    for (int i = 0; i < 3; ++i) f.inv_w[i] = uintBitsToFloat(w[21 + i]);
+    for (int i = 0; i < 3; ++i) f.s[i] = uintBitsToFloat(w[24 + i]);
+    for (int i = 0; i < 3; ++i) f.fx[i] = int(w[27 + i]);
+    for (int i = 0; i < 3; ++i) f.fy[i] = int(w[30 + i]);
+    f.side = uintBitsToFloat(w[33]);
     return f;
 }
 
@@ -110,22 +110,22 @@ dvec2 havs_fragment_values(HavsFace f, ivec2 pix)
         e1 = havs_snapped_edge(f, 2, 0, cx, cy);
         e2 = havs_snapped_edge(f, 0, 1, cx, cy);
     }
-    precise double w0 = e0 * f.inv_w[0];
-    precise double w1 = e1 * f.inv_w[1];
-    precise double w2 = e2 * f.inv_w[2];
+    precise double w0 = e0 * double(f.inv_w[0]);
+    precise double w1 = e1 * double(f.inv_w[1]);
+    precise double w2 = e2 * double(f.inv_w[2]);
     precise double inv_sum = 1.0lf / ((w0 + w1) + w2);
     precise double l0 = w0 * inv_sum;
     precise double l1 = w1 * inv_sum;
     precise double l2 = w2 * inv_sum;
-    precise double px = (l0 * f.q[0] + l1 * f.q[3]) + l2 * f.q[6];
-    precise double py = (l0 * f.q[1] + l1 * f.q[4]) + l2 * f.q[7];
-    precise double pz = (l0 * f.q[2] + l1 * f.q[5]) + l2 * f.q[8];
+    precise double px = (l0 * double(f.q[0]) + l1 * double(f.q[3])) + l2 * double(f.q[6]);
+    precise double py = (l0 * double(f.q[1]) + l1 * double(f.q[4])) + l2 * double(f.q[7]);
+    precise double pz = (l0 * double(f.q[2]) + l1 * double(f.q[5])) + l2 * double(f.q[8]);
     precise double ndc_x = fx * havs_two_over_width - 1.0lf;
     precise double ndc_y = fy * havs_two_over_height - 1.0lf;
     precise double dx = px - ndc_x * havs_origin_x;
     precise double dy = py - ndc_y * havs_origin_y;
     precise double distance = sqrt((dx * dx + dy * dy) + pz * pz);
-    precise double s = (l0 * f.s[0] + l1 * f.s[1]) + l2 * f.s[2];
+    precise double s = (l0 * double(f.s[0]) + l1 * double(f.s[1])) + l2 * double(f.s[2]);
     precise double side = f.side == 1.0 && outside ? double(havs_side_outside) : double(f.side);
     precise double x = side * (1.0lf + s);
     return dvec2(x, distance);

@@ -232,13 +232,15 @@ struct EntryGen {
         if (pick(100) == 0) q[2] = q[pick(2)];  // degenerate: zero area (the weights divide by zero)
         WindowCoord wv[3];
         for (int j = 0; j < 3; ++j) {
-            const glm::dvec3 w = window(q[j], f.inv_w[j]);
-            f.q[j] = q[j];
+            double inv_w = 0.0;
+            const glm::dvec3 w = window(q[j], inv_w);
+            f.inv_w[j] = float(inv_w);
+            f.q[j] = glm::vec3(q[j]);
             f.v[j] = glm::dvec2(w.x, w.y);
             wv[j] = {float(w.x), float(w.y)};
             f.fx[j] = snap_to_fixed(wv[j].x);
             f.fy[j] = snap_to_fixed(wv[j].y);
-            f.s[j] = pick(8) == 0 ? double(pick(2)) : uni(0.0, 1.0);
+            f.s[j] = float(pick(8) == 0 ? double(pick(2)) : uni(0.0, 1.0));
         }
         f.side = pick(3) == 0 ? kSideExit : pick(2) == 0 ? kSideEntry : kSideInterior;
         const Framebuffer fbuf{width, height, RenderTarget::fbo};
