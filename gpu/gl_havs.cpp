@@ -22,7 +22,7 @@ constexpr const char* kFramebufferFetch = "GL_EXT_shader_framebuffer_fetch";
 
 int entry_targets(int k) { return (k + 1) / 2; }
 
-// The face constants of one draw, at most: 16 MiB (80,659 faces). Each draw's constants and element indices are
+// The face constants of one draw, at most: 16 MiB (116,508 faces). Each draw's constants and element indices are
 // uploaded just before it, and llvmpipe keeps a draw's buffers until the scene that reads it is rasterized, so
 // what the GL side holds grows with this size: at 10.1 M tetrahedra (20.3 M faces) the whole frame's element buffer
 // (12 bytes a face, twice: the CPU's and Mesa's) and 128 MiB chunks (the block size) peaked at 266 bytes per

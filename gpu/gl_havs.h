@@ -38,7 +38,7 @@ public:
     // asked for, two entries in each of the others.
     static int max_k(const GlInfo& info, bool diagnostics);
 
-    // Faces drawn per draw call: as many as 16 MiB of face constants hold (80,659 faces; less where
+    // Faces drawn per draw call: as many as 16 MiB of face constants hold (116,508 faces; less where
     // GL_MAX_TEXTURE_BUFFER_SIZE texels hold fewer), or `n` when set (tests; 0 goes back to the limit).
     std::size_t faces_per_draw() const;
     void set_faces_per_draw(std::size_t n) { faces_per_draw_ = n; }
