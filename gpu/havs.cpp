@@ -88,9 +88,19 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     store_clip_stats(fs, st);
     auto t0 = Clock::now();
 
-    // Bin the triangles, in drawing order, into screen tiles by their window-space bounding boxes.
+    // Bin the triangles, in drawing order, into screen tiles by their window-space bounding boxes. The boxes (three
+    // scattered reads of the window positions a triangle: most of the time on a large mesh) are computed in parallel,
+    // a chunk at a time so that their scratch stays small; they are appended in order, on one thread.
     ScreenTiles tiles(width, height);
-    for (std::size_t i = 0; i < fs.draw.size(); ++i) tiles.add(uint32_t(i), win, fs.triangle(mesh_, fs.draw[i]), 3);
+    constexpr std::size_t kBinChunk = std::size_t(1) << 18;
+    std::vector<ScreenTiles::Range> ranges(std::min(kBinChunk, fs.draw.size()));
+    for (std::size_t c0 = 0; c0 < fs.draw.size(); c0 += kBinChunk) {
+        const std::size_t n = std::min(kBinChunk, fs.draw.size() - c0);
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+            ranges[i] = tiles.range(win, fs.triangle(mesh_, fs.draw[c0 + i]), 3);
+        });
+        for (std::size_t i = 0; i < n; ++i) tiles.add(uint32_t(c0 + i), ranges[i]);
+    }
     st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
 
     // The segment shader: the table as llvmpipe samples it, or the exact integral in double.

@@ -14,7 +14,7 @@ ScreenTiles::ScreenTiles(int width, int height)
 {
 }
 
-void ScreenTiles::add(uint32_t item, const std::vector<WindowCoord>& win, const uint32_t* idx, int n)
+ScreenTiles::Range ScreenTiles::range(const std::vector<WindowCoord>& win, const uint32_t* idx, int n) const
 {
     float x0 = win[idx[0]].x, x1 = x0, y0 = win[idx[0]].y, y1 = y0;
     for (int j = 1; j < n; ++j) {
@@ -23,13 +23,20 @@ void ScreenTiles::add(uint32_t item, const std::vector<WindowCoord>& win, const 
         y0 = std::min(y0, win[idx[j]].y);
         y1 = std::max(y1, win[idx[j]].y);
     }
-    if (!(x1 >= 0.0f && y1 >= 0.0f && x0 <= float(width_) && y0 <= float(height_))) return;
-    const int tx0 = std::clamp(int(std::floor(x0)) / kTile, 0, tiles_x_ - 1);
-    const int tx1 = std::clamp(int(std::floor(x1)) / kTile, 0, tiles_x_ - 1);
-    const int ty0 = std::clamp(int(std::floor(y0)) / kTile, 0, tiles_y_ - 1);
-    const int ty1 = std::clamp(int(std::floor(y1)) / kTile, 0, tiles_y_ - 1);
-    for (int ty = ty0; ty <= ty1; ++ty)
-        for (int tx = tx0; tx <= tx1; ++tx) bins_[std::size_t(ty) * std::size_t(tiles_x_) + std::size_t(tx)].push_back(item);
+    Range r;
+    if (!(x1 >= 0.0f && y1 >= 0.0f && x0 <= float(width_) && y0 <= float(height_))) return r;
+    r.x0 = std::clamp(int(std::floor(x0)) / kTile, 0, tiles_x_ - 1);
+    r.x1 = std::clamp(int(std::floor(x1)) / kTile, 0, tiles_x_ - 1);
+    r.y0 = std::clamp(int(std::floor(y0)) / kTile, 0, tiles_y_ - 1);
+    r.y1 = std::clamp(int(std::floor(y1)) / kTile, 0, tiles_y_ - 1);
+    return r;
+}
+
+void ScreenTiles::add(uint32_t item, const Range& r)
+{
+    for (int ty = r.y0; ty <= r.y1; ++ty)
+        for (int tx = r.x0; tx <= r.x1; ++tx)
+            bins_[std::size_t(ty) * std::size_t(tiles_x_) + std::size_t(tx)].push_back(item);
 }
 
 void ScreenTiles::pixels(std::size_t b, int& px0, int& px1, int& py0, int& py1) const

@@ -17,9 +17,17 @@ public:
 
     ScreenTiles(int width, int height);
 
-    // Appends `item` to every tile that the bounding box of win[idx[0]] .. win[idx[n - 1]] touches (none when the box
-    // lies off the framebuffer).
-    void add(uint32_t item, const std::vector<WindowCoord>& win, const uint32_t* idx, int n);
+    // The tiles the bounding box of win[idx[0]] .. win[idx[n - 1]] touches: columns x0..x1, rows y0..y1, inclusive
+    // (none when the box lies off the framebuffer). Reads only: drivers compute many in parallel and add them in
+    // submission order.
+    struct Range {
+        int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
+    };
+    Range range(const std::vector<WindowCoord>& win, const uint32_t* idx, int n) const;
+    // Appends `item` to every tile of `r`.
+    void add(uint32_t item, const Range& r);
+    // Both: appends `item` to every tile the bounding box touches.
+    void add(uint32_t item, const std::vector<WindowCoord>& win, const uint32_t* idx, int n) { add(item, range(win, idx, n)); }
 
     std::size_t count() const { return bins_.size(); }
     const std::vector<uint32_t>& items(std::size_t b) const { return bins_[b]; }
