@@ -49,11 +49,6 @@ uint8_t fetch_byte(const TextureView& tex, std::size_t texel, int c)
     return static_cast<const uint8_t*>(tex.texels)[texel * std::size_t(tex.channels) + std::size_t(c)];
 }
 
-std::size_t texel_index(const TextureView& tex, int x, int y, int z)
-{
-    return (std::size_t(z) * std::size_t(tex.height) + std::size_t(y)) * std::size_t(tex.width) + std::size_t(x);
-}
-
 glm::vec4 sample_nearest(const TextureView& tex, const float* coord, int dims)
 {
     // lp_build_sample_wrap_nearest (SoA) truncates coord * size and clamps; lp_build_sample_wrap_nearest_int (AoS)

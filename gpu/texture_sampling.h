@@ -16,6 +16,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cstddef>
 #include <cstdint>
 
 #include <glm/vec4.hpp>
@@ -118,10 +119,15 @@ inline LinearTaps wrap_linear_soa(float coord, int size)
     return taps;
 }
 
-
 // Which path llvmpipe takes for a format (CLAMP_TO_EDGE, no mipmaps, equal filters): AoS for u8, SoA otherwise.
 enum class SamplePath { soa_float, aos_unorm8 };
 SamplePath sample_path(TexelFormat f);
+
+// The index of texel (x, y, z) in the layout above (x fastest, then y, then z).
+inline std::size_t texel_index(const TextureView& tex, int x, int y, int z)
+{
+    return (std::size_t(z) * std::size_t(tex.height) + std::size_t(y)) * std::size_t(tex.width) + std::size_t(x);
+}
 
 // One texel converted to float as llvmpipe's fetch does (1-channel textures read as (r, 0, 0, 1)).
 glm::vec4 texel_fetch(const TextureView& tex, int x, int y, int z = 0);

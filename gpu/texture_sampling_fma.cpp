@@ -31,9 +31,7 @@ __attribute__((target("fma"), always_inline)) inline __m128 lerp4(__m128 w, __m1
 
 __attribute__((target("fma"), always_inline)) inline __m128 texel4(const TextureView& tex, int x, int y, int z)
 {
-    const std::size_t i =
-        (std::size_t(z) * std::size_t(tex.height) + std::size_t(y)) * std::size_t(tex.width) + std::size_t(x);
-    return _mm_loadu_ps(static_cast<const float*>(tex.texels) + 4 * i);
+    return _mm_loadu_ps(static_cast<const float*>(tex.texels) + 4 * texel_index(tex, x, y, z));
 }
 
 // The four texels of slice z filtered: lerp(t, lerp(s, v00, v01), lerp(s, v10, v11)).

@@ -27,7 +27,10 @@ public:
     // Appends `item` to every tile of `r`.
     void add(uint32_t item, const Range& r);
     // Both: appends `item` to every tile the bounding box touches.
-    void add(uint32_t item, const std::vector<WindowCoord>& win, const uint32_t* idx, int n) { add(item, range(win, idx, n)); }
+    void add(uint32_t item, const std::vector<WindowCoord>& win, const uint32_t* idx, int n)
+    {
+        add(item, range(win, idx, n));
+    }
 
     std::size_t count() const { return bins_.size(); }
     const std::vector<uint32_t>& items(std::size_t b) const { return bins_[b]; }

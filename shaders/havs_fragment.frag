@@ -6,8 +6,8 @@
 // compiled in front of it. The prelude gpu/gl_context.cpp
 // puts in front carries the pass's defines,
 //   HAVS_K            the number of stored entries, 1 .. (draw buffers - 1) * 2 in a real pass,
-//   HAVS_DIAGNOSTICS  (optional) havs_kbuffer also updates havs_diag, the emulation's KBufferDiagnostics,
-// (The snapped edge functions are exact integers held in double, so no 64-bit integer extension is needed.)
+//   HAVS_DIAGNOSTICS  (optional) havs_kbuffer also updates havs_diag, the emulation's KBufferDiagnostics.
+// The snapped edge functions are exact integers held in double, so no 64-bit integer extension is needed.
 //
 // Bit-faithfulness. Every arithmetic result is `precise`: without it a compiler may fuse a multiply and an add,
 // reassociate, or rewrite `a - b < 0` as `a < b`. Measured on llvmpipe (Mesa 22.3.6): without `precise`, 13% of the
@@ -37,12 +37,12 @@ struct HavsFace {
 // The records: GlHavsFace of gpu/gl_havs_fragment.h, havs_face_texels RGBA32UI texels a face, read with texelFetch
 // (the bits as uploaded: doubles reassembled from their two words). A buffer texture, not a shader storage buffer,
 // for speed: llvmpipe reads a storage buffer at an index it cannot prove uniform (gl_PrimitiveID is not, to it) one
-// lane and one scalar at a time, 50 scalar loads a fragment here, while a texel fetch is one gather per channel; on a
-// Blunt Fin frame the storage buffer cost about 180 ms of 0.55 s (docs/gl-backend.md, "Speed").
+// lane and one scalar at a time, while a texel fetch is one gather per channel; on a Blunt Fin frame the former
+// 200-byte record's 50 scalar loads cost about 180 ms of 0.55 s (docs/gl-backend.md, "Speed").
 layout(binding = 5) uniform usamplerBuffer havs_face_records;  // kHavsFaceUnit
 const int havs_face_texels = 9;  // kHavsFaceTexels
 
-// Record `id`'s words 2i and 2i + 1 (low word first, as the CPU's little-endian double) as a double.
+// A record's words 2i and 2i + 1 (low word first, as the CPU's little-endian double) as a double.
 double havs_record_double(uint w[4 * havs_face_texels], int i)
 {
     return packDouble2x32(uvec2(w[2 * i], w[2 * i + 1]));
@@ -162,7 +162,7 @@ vec4 havs_diag;
 
 // havs_kbuffer: one run of the program on one pixel. a[] holds the k stored entries (x, y) and is overwritten with
 // the k remaining ones; fb is the framebuffer colour, replaced by the composited one. Returns false when the fragment
-// is killed (the caller discards: nothing is written).
+// is killed: a[] and fb are left as they were (the frame pass writes them back unchanged; the harness discards).
 bool havs_kbuffer(vec2 a0, inout vec2 a[HAVS_K], inout vec4 fb)
 {
     // KIL (threshold - alpha).

@@ -26,11 +26,7 @@ void main()
 {
     VicpSegment seg = vicp_fragment_values(vicp_tet, ivec2(gl_FragCoord.xy));
     vec4 fb = vicp_color, diag = vicp_diagnostics;
-    vec4 fb_new = fb, diag_new = diag;
-    if (gl_FrontFacing && vicp_composite(seg, fb_new, diag_new)) {
-        fb = fb_new;
-        diag = diag_new;
-    }
+    if (gl_FrontFacing) vicp_composite(seg, fb, diag);  // killed: fb and diag are as read
     vicp_color = fb;
     vicp_diagnostics = diag;
 }

@@ -104,7 +104,7 @@ vec4 vicp_shade(float u_front, float u_back, float t_z, float seg_length);
 
 // vicp_composite of gpu/vicp_fragment.cpp on one pixel: fb is the framebuffer colour, replaced by the composited one;
 // diag is VicpDiagnostics as floats (fragments, ordering errors, last back, last front; counts exact below 2^24).
-// Returns false when the fragment is killed (the caller discards: nothing is written).
+// Returns false when the fragment is killed: fb and diag are left as they were.
 bool vicp_composite(VicpSegment seg, inout vec4 fb, inout vec4 diag)
 {
     // KIL (threshold - alpha).
