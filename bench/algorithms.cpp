@@ -3,12 +3,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <cstdio>
 #include <sstream>
 
 #include "bench/progress.h"
-#include "gpu/gl_havs.h"
-#include "gpu/gl_raycast.h"
-#include "gpu/gl_vicp.h"
+#include "gpu/havs/gl_havs.h"
+#include "gpu/raycast/gl_raycast.h"
+#include "gpu/vicp/gl_vicp.h"
 #include "reference/error.h"
 #include "reference/image_cache.h"
 #include "reference/reference_renderer.h"
@@ -35,16 +36,24 @@ void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
         ->capture_default_str();
 }
 
-gpu::HavsOptions havs_options(const AlgoOptions& a)
+namespace {
+
+// The options every algorithm with a pre-integrated table shares: --segment, --threshold (`default_threshold` when
+// unset), --table-size and --table-format.
+struct TableOptions {
+    gpu::SegmentMode segment = gpu::SegmentMode::table;
+    float threshold = 1.0f;
+    int table_size = 128;
+    gpu::TexelFormat table_format = gpu::TexelFormat::f32;
+};
+
+TableOptions table_options(const AlgoOptions& a, double default_threshold)
 {
-    gpu::HavsOptions o;
-    o.k = a.k;
+    TableOptions o;
     if (a.segment != "table" && a.segment != "exact") throw InputError("", "--segment must be table or exact");
     o.segment = a.segment == "exact" ? gpu::SegmentMode::exact : gpu::SegmentMode::table;
-    if (a.gaps != "exact" && a.gaps != "maxgap") throw InputError("", "--gaps must be exact or maxgap");
-    o.gaps = a.gaps == "maxgap" ? gpu::GapMode::maxgap : gpu::GapMode::exact;
     if (a.threshold >= 0.0 && a.threshold > 1.0) throw InputError("", "--threshold must be in [0, 1]");
-    o.threshold = a.threshold < 0.0 ? 0.99f : float(a.threshold);
+    o.threshold = float(a.threshold < 0.0 ? default_threshold : a.threshold);
     if (a.table_size < 2 || a.table_size > 1024) throw InputError("", "--table-size must be between 2 and 1024");
     o.table_size = a.table_size;
     if (a.table_format == "f32")
@@ -58,39 +67,49 @@ gpu::HavsOptions havs_options(const AlgoOptions& a)
     return o;
 }
 
+}  // namespace
+
+gpu::HavsOptions havs_options(const AlgoOptions& a)
+{
+    const TableOptions t = table_options(a, 0.99);
+    gpu::HavsOptions o;
+    o.k = a.k;
+    o.segment = t.segment;
+    if (a.gaps != "exact" && a.gaps != "maxgap") throw InputError("", "--gaps must be exact or maxgap");
+    o.gaps = a.gaps == "maxgap" ? gpu::GapMode::maxgap : gpu::GapMode::exact;
+    o.threshold = t.threshold;
+    o.table_size = t.table_size;
+    o.table_format = t.table_format;
+    return o;
+}
+
 gpu::VicpOptions vicp_options(const AlgoOptions& a)
 {
-    // The table and segment options mean what they mean for HAVS; only the order and the threshold's default differ.
-    AlgoOptions h = a;
-    if (h.threshold < 0.0) h.threshold = 1.0;
-    const gpu::HavsOptions ho = havs_options(h);
+    const TableOptions t = table_options(a, 1.0);
     gpu::VicpOptions o;
     o.order = gpu::parse_cell_order(a.order);
-    o.segment = ho.segment;
-    o.threshold = ho.threshold;
-    o.table_size = ho.table_size;
-    o.table_format = ho.table_format;
+    o.segment = t.segment;
+    o.threshold = t.threshold;
+    o.table_size = t.table_size;
+    o.table_format = t.table_format;
     return o;
 }
 
 gpu::RaycastOptions raycast_options(const AlgoOptions& a)
 {
-    // The table options mean what they mean for HAVS (the pre-integrated table); the threshold's default is 0.95.
-    AlgoOptions h = a;
-    if (h.threshold < 0.0) h.threshold = 0.95;
-    const gpu::HavsOptions ho = havs_options(h);
+    const TableOptions t = table_options(a, 0.95);
     gpu::RaycastOptions o;
     if (a.step != -1.0 && !(a.step > 0.0 && std::isfinite(a.step)))
         throw InputError("", "--step must be positive and finite (world units)");
     o.step = a.step > 0.0 ? a.step : 0.0;  // 0: RaycastVolume's default
     o.preintegrate = a.preintegrate;
-    if (ho.segment == gpu::SegmentMode::exact && !a.preintegrate)
+    if (t.segment == gpu::SegmentMode::exact && !a.preintegrate)
         throw InputError("", "--segment exact needs --preintegrate with --algo raycast (it integrates the segment "
                              "between two samples)");
-    o.segment = ho.segment;
-    o.threshold = ho.threshold;
-    o.table_size = ho.table_size;
-    o.table_format = ho.table_format;
+    o.segment = t.segment;
+    o.threshold = t.threshold;
+    o.table_size = t.table_size;
+    o.table_format = t.table_format;
     o.volume_format = gpu::parse_volume_format(a.volume_format);
     if (!a.light.empty()) {
         const std::vector<std::string> xyz = split_list(a.light);
@@ -110,204 +129,373 @@ gpu::RaycastOptions raycast_options(const AlgoOptions& a)
 namespace {
 
 using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// The regular-grid reference (reference/volume_integrator.h). Not cached: the cache's key is a mesh's.
-AlgoResult run_volume_reference(const Scene& s)
+void check_backend(const AlgoOptions& a)
 {
-    AlgoResult r;
-    const VolumeIntegrator integrator(s.volume(), s.tf);
-    ProgressBar bar("reference");
-    ReferenceStats st;
-    r.image = render_reference(integrator, s.camera, s.width, s.height, st, [&](double f) { bar.update(f); });
-    bar.finish();
-    r.ms = st.seconds * 1000.0;
-    r.stats = {{"cached", false}, {"rays", st.rays}, {"cell_pieces", st.segments}, {"entries", st.entries}};
-    return r;
+    if (a.backend != "emu" && a.backend != "gl")
+        throw InputError("", "--backend must be emu or gl, not '" + a.backend + "'");
 }
 
-AlgoResult run_reference(const Scene& s, bool use_cache)
-{
-    if (s.is_volume()) return run_volume_reference(s);
-    AlgoResult r;
-    const std::string key = reference_cache_key(s.mesh(), s.field, s.tf, s.camera, s.width, s.height);
-    if (use_cache) {
-        if (auto img = cache_load(key, s.width, s.height)) {
-            r.image = std::move(*img);
-            r.cached = true;
-            r.stats = {{"cached", true}};
-            return r;
+// --- the reference (reference/reference_renderer.h): the ground truth on the CPU, for meshes and regular grids ---
+
+class ReferenceRenderer : public Renderer {
+public:
+    // With the cache, the integrator is built only when a frame misses it (building it is most of a small frame).
+    ReferenceRenderer(const Scene& s, bool use_cache) : s_(s), use_cache_(use_cache)
+    {
+        if (!use_cache_) build();
+    }
+
+    AlgoResult render(const Camera& camera, int width, int height) override
+    {
+        AlgoResult r;
+        const std::string key = s_.is_volume() ? std::string()
+                                                : reference_cache_key(s_.mesh(), s_.field, s_.tf, camera, width, height);
+        if (use_cache_ && !key.empty()) {  // the cache's key is a mesh's: regular grids are not cached
+            if (auto img = cache_load(key, width, height)) {
+                r.image = std::move(*img);
+                r.cached = true;
+                r.stats = {{"cached", true}};
+                return r;
+            }
         }
+        build();
+        ProgressBar bar("reference");
+        ReferenceStats st;
+        const auto progress = [&](double f) { bar.update(f); };
+        r.image = mesh_ ? render_reference(*mesh_, camera, width, height, st, progress)
+                        : render_reference(*volume_, camera, width, height, st, progress);
+        bar.finish();
+        if (mesh_ && st.failures)
+            throw InputError(s_.mesh().source, std::to_string(st.failures) +
+                                                   " rays were abandoned by the walk's guards; the image would be wrong");
+        if (use_cache_ && !key.empty()) cache_store(key, r.image);
+        r.ms = st.seconds * 1000.0;
+        r.stats = {{"cached", false}, {"rays", st.rays}, {mesh_ ? "segments" : "cell_pieces", st.segments},
+                   {"entries", st.entries}, {"stages_ms", {{"integrate", r.ms}}}};
+        return r;
     }
-    const RayIntegrator integrator(s.mesh(), *s.topology, s.field, s.tf);
-    ProgressBar bar("reference");
-    ReferenceStats st;
-    r.image = render_reference(integrator, s.camera, s.width, s.height, st, [&](double f) { bar.update(f); });
-    bar.finish();
-    if (st.failures)
-        throw InputError(s.mesh().source, std::to_string(st.failures) +
-                                              " rays were abandoned by the walk's guards; the image would be wrong");
-    if (use_cache) cache_store(key, r.image);
-    r.ms = st.seconds * 1000.0;
-    r.stats = {{"cached", false}, {"rays", st.rays}, {"segments", st.segments}, {"entries", st.entries}};
-    return r;
-}
 
-AlgoResult havs_result(gpu::HavsFrame f, const AlgoOptions& a, double ms)
-{
-    AlgoResult r;
-    r.ms = ms;
-    const auto& st = f.stats;
-    r.stats = {{"k", a.k}, {"segment", a.segment}, {"gaps", a.gaps}, {"faces", st.faces},
-               {"clip", {{"triangles", st.triangles}, {"clipped_faces", st.clipped_faces},
-                         {"culled_faces", st.culled_faces}, {"near_sections", st.near_sections},
-                         {"gpu_clipped", st.gpu_clipped}}},
-               {"stages_ms", {{"table", st.table_ms}, {"sort", st.sort_ms}, {"setup", st.setup_ms},
-                              {"raster_fragment", st.raster_fragment_ms}, {"flush", st.flush_ms}}}};
-    if (!f.fragments.empty()) {
-        r.stats["fragments"] = st.fragments;
-        r.stats["max_fragments_per_pixel"] = st.max_fragments;
-        r.stats["max_held"] = st.max_held;
-        r.stats["ordering_errors"] = st.ordering_errors;
+private:
+    const Scene& s_;
+    bool use_cache_;
+    std::unique_ptr<RayIntegrator> mesh_;
+    std::unique_ptr<VolumeIntegrator> volume_;
+
+    void build()
+    {
+        if (mesh_ || volume_) return;
+        if (s_.is_volume())
+            volume_ = std::make_unique<VolumeIntegrator>(s_.volume(), s_.tf);
+        else
+            mesh_ = std::make_unique<RayIntegrator>(s_.mesh(), *s_.topology, s_.field, s_.tf);
     }
-    r.image = std::move(f.image);
-    r.fragments = std::move(f.fragments);
-    r.max_held = std::move(f.max_held);
-    r.ordering_errors = std::move(f.ordering_errors);
-    return r;
-}
+};
 
-AlgoResult run_havs(const Scene& s, const AlgoOptions& a)
-{
-    if (a.backend != "emu" && a.backend != "gl") throw InputError("", "--backend must be emu or gl, not '" + a.backend + "'");
-    const auto t0 = Clock::now();
-    if (a.backend == "emu") {
-        const gpu::HavsRenderer havs(s.mesh(), *s.topology, s.field, s.tf, havs_options(a));
-        gpu::HavsFrame f = havs.render(s.camera, s.width, s.height);
-        return havs_result(std::move(f), a, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+// --- HAVS (gpu/havs/): emulated, or on GL ---
+
+class HavsRendererEntry : public Renderer {
+public:
+    HavsRendererEntry(const Scene& s, const AlgoOptions& a) : a_(a)
+    {
+        const gpu::HavsOptions o = havs_options(a);
+        if (a.backend == "emu") {
+            emu_ = std::make_unique<gpu::HavsRenderer>(s.mesh(), *s.topology, s.field, s.tf, o);
+            return;
+        }
+        ctx_ = std::make_unique<gpu::GlContext>(gpu::parse_gl_platform(a.gl));
+        const int kmax_diag = gpu::GlHavsRenderer::max_k(ctx_->info(), true);
+        if (a.require_diagnostics && a.k > kmax_diag)
+            throw InputError("", "--diagnostics with --backend gl needs a free draw buffer: k at most " +
+                                     std::to_string(kmax_diag) + " on " + ctx_->info().renderer);
+        diagnostics_ = a.diagnostics && a.k <= kmax_diag;
+        gl_ = std::make_unique<gpu::GlHavsRenderer>(*ctx_, s.mesh(), *s.topology, s.field, s.tf, o, diagnostics_);
     }
-    gpu::GlContext ctx(gpu::parse_gl_platform(a.gl));
-    const int kmax_diag = gpu::GlHavsRenderer::max_k(ctx.info(), true);
-    if (a.require_diagnostics && a.k > kmax_diag)
-        throw InputError("", "--diagnostics with --backend gl needs a free draw buffer: k at most " +
-                                 std::to_string(kmax_diag) + " on " + ctx.info().renderer);
-    gpu::GlHavsRenderer havs(ctx, s.mesh(), *s.topology, s.field, s.tf, havs_options(a), a.k <= kmax_diag);
-    gpu::HavsFrame f = havs.render(s.camera, s.width, s.height);
-    AlgoResult r = havs_result(std::move(f), a, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-    r.stats["gl"] = ctx.info().summary();
-    return r;
-}
 
-AlgoResult vicp_result(gpu::VicpFrame f, const gpu::VicpMesh& vm, const AlgoOptions& a, double ms)
-{
-    AlgoResult r;
-    r.ms = ms;
-    const auto& st = f.stats;
-    r.stats = {{"order", a.order},
-               {"segment", a.segment},
-               {"cells", st.cells},
-               {"drawn_cells", st.drawn_cells},
-               {"fragments", st.fragments},
-               {"max_fragments_per_pixel", st.max_fragments},
-               {"ordering_errors", st.ordering_errors},
-               {"cycle_breaks", st.order.cycle_breaks},
-               {"face_dependencies", st.order.face_dependencies},
-               {"ray_dependencies", st.order.ray_dependencies},
-               {"bytes_sent_per_tet", gpu::vicp_sent_bytes_per_cell(vm)},
-               {"clip", {{"clipped_cells", st.clipped_cells}, {"culled_cells", st.culled_cells},
-                         {"near_sections", st.near_sections}, {"fan_triangles", st.fan_triangles},
-                         {"gpu_clipped", st.gpu_clipped}}},
-               {"stages_ms", {{"table", st.table_ms}, {"sort", st.sort_ms}, {"project", st.project_ms},
-                              {"setup", st.setup_ms}, {"raster_fragment", st.raster_fragment_ms}}}};
-    r.image = std::move(f.image);
-    r.fragments = std::move(f.fragments);
-    r.ordering_errors = std::move(f.ordering_errors);
-    return r;
-}
-
-AlgoResult run_vicp(const Scene& s, const AlgoOptions& a)
-{
-    if (a.backend != "emu" && a.backend != "gl")
-        throw InputError("", "--backend must be emu or gl, not '" + a.backend + "'");
-    const auto t0 = Clock::now();
-    auto ms = [&] { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); };
-    if (a.backend == "emu") {
-        const gpu::VicpRenderer vicp(s.mesh(), *s.topology, s.field, s.tf, vicp_options(a));
-        gpu::VicpFrame f = vicp.render(s.camera, s.width, s.height);
-        return vicp_result(std::move(f), vicp.cpu_stage(), a, ms());
+    AlgoResult render(const Camera& camera, int width, int height) override
+    {
+        gpu::HavsFrame f = emu_ ? emu_->render(camera, width, height) : gl_->render(camera, width, height);
+        AlgoResult r;
+        const auto& st = f.stats;
+        r.stats = {{"k", a_.k}, {"segment", a_.segment}, {"gaps", a_.gaps}, {"faces", st.faces},
+                   {"table_ms", st.table_ms},
+                   {"clip", {{"triangles", st.triangles}, {"clipped_faces", st.clipped_faces},
+                             {"culled_faces", st.culled_faces}, {"near_sections", st.near_sections},
+                             {"gpu_clipped", st.gpu_clipped}}},
+                   {"stages_ms", {{"sort", st.sort_ms}, {"vertex_and_setup", st.setup_ms},
+                                  {"raster_and_fragment", st.raster_fragment_ms}, {"flush", st.flush_ms},
+                                  {"readback", st.readback_ms}}}};
+        if (!f.fragments.empty()) {
+            r.stats["fragments"] = st.fragments;
+            r.stats["max_fragments_per_pixel"] = st.max_fragments;
+            r.stats["max_held"] = st.max_held;
+            r.stats["ordering_errors"] = st.ordering_errors;
+        }
+        if (ctx_) {
+            r.stats["gl"] = ctx_->info().summary();
+            r.stats["diagnostics"] = diagnostics_;
+        }
+        r.image = std::move(f.image);
+        r.fragments = std::move(f.fragments);
+        r.max_held = std::move(f.max_held);
+        r.ordering_errors = std::move(f.ordering_errors);
+        return r;
     }
-    gpu::GlContext ctx(gpu::parse_gl_platform(a.gl));
-    gpu::GlVicpRenderer vicp(ctx, s.mesh(), *s.topology, s.field, s.tf, vicp_options(a));
-    gpu::VicpFrame f = vicp.render(s.camera, s.width, s.height);
-    AlgoResult r = vicp_result(std::move(f), vicp.cpu_stage(), a, ms());
-    r.stats["gl"] = ctx.info().summary();
-    return r;
-}
 
-AlgoResult raycast_result(gpu::RaycastFrame f, const gpu::RaycastVolume& rv, double ms)
-{
-    AlgoResult r;
-    r.ms = ms;
-    const auto& st = f.stats;
-    const gpu::RaycastOptions& o = rv.options();
-    r.stats = {{"step", o.step},
-               {"preintegrate", o.preintegrate},
-               {"threshold", o.threshold},
-               {"shading", o.light.has_value()},
-               {"volume_format", gpu::texel_format_name(rv.texel_format())},
-               {"rays", st.rays},
-               {"samples", st.samples},
-               {"max_samples_per_pixel", st.max_samples},
-               {"stages_ms", {{"table", st.table_ms}, {"setup", st.setup_ms}, {"march", st.march_ms},
-                              {"readback", st.readback_ms}}}};
-    r.image = std::move(f.image);
-    r.samples = std::move(f.samples);
-    return r;
-}
+private:
+    AlgoOptions a_;
+    bool diagnostics_ = true;
+    std::unique_ptr<gpu::HavsRenderer> emu_;
+    std::unique_ptr<gpu::GlContext> ctx_;
+    std::unique_ptr<gpu::GlHavsRenderer> gl_;
+};
 
-AlgoResult run_raycast(const Scene& s, const AlgoOptions& a)
-{
-    if (a.backend != "emu" && a.backend != "gl")
-        throw InputError("", "--backend must be emu or gl, not '" + a.backend + "'");
-    check_algorithm_scene(s, "raycast");
-    const auto t0 = Clock::now();
-    auto ms = [&] { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); };
-    const gpu::RaycastOptions o = raycast_options(a);
-    if (a.backend == "emu") {
-        const gpu::RaycastRenderer rc(s.volume(), s.tf, o);
-        gpu::RaycastFrame f = rc.render(s.camera, s.width, s.height);
-        return raycast_result(std::move(f), rc.cpu_stage(), ms());
+// --- VICP (gpu/vicp/): emulated, or on GL ---
+
+class VicpRendererEntry : public Renderer {
+public:
+    VicpRendererEntry(const Scene& s, const AlgoOptions& a) : a_(a)
+    {
+        const gpu::VicpOptions o = vicp_options(a);
+        if (a.backend == "emu") {
+            emu_ = std::make_unique<gpu::VicpRenderer>(s.mesh(), *s.topology, s.field, s.tf, o);
+            return;
+        }
+        ctx_ = std::make_unique<gpu::GlContext>(gpu::parse_gl_platform(a.gl));
+        gl_ = std::make_unique<gpu::GlVicpRenderer>(*ctx_, s.mesh(), *s.topology, s.field, s.tf, o);
     }
-    gpu::GlContext ctx(gpu::parse_gl_platform(a.gl));
-    gpu::GlRaycastRenderer rc(ctx, s.volume(), s.tf, o);
-    gpu::RaycastFrame f = rc.render(s.camera, s.width, s.height);
-    AlgoResult r = raycast_result(std::move(f), rc.cpu_stage(), ms());
-    r.stats["gl"] = ctx.info().summary();
+
+    AlgoResult render(const Camera& camera, int width, int height) override
+    {
+        gpu::VicpFrame f = emu_ ? emu_->render(camera, width, height) : gl_->render(camera, width, height);
+        const gpu::VicpMesh& vm = emu_ ? emu_->cpu_stage() : gl_->cpu_stage();
+        AlgoResult r;
+        const auto& st = f.stats;
+        r.stats = {{"order", a_.order},
+                   {"segment", a_.segment},
+                   {"cells", st.cells},
+                   {"drawn_cells", st.drawn_cells},
+                   {"fragments", st.fragments},
+                   {"max_fragments_per_pixel", st.max_fragments},
+                   {"ordering_errors", st.ordering_errors},
+                   {"cycle_breaks", st.order.cycle_breaks},
+                   {"face_dependencies", st.order.face_dependencies},
+                   {"ray_dependencies", st.order.ray_dependencies},
+                   {"bytes_sent_per_tet", gpu::vicp_sent_bytes_per_cell(vm)},
+                   {"seed_bytes_sent_per_tet", gpu::kSeedBytesSentPerCell},
+                   {"resident_bytes_per_tet", gpu::vicp_resident_bytes_per_cell(vm)},
+                   {"table_ms", st.table_ms},
+                   {"clip", {{"clipped_cells", st.clipped_cells}, {"culled_cells", st.culled_cells},
+                             {"near_sections", st.near_sections}, {"fan_triangles", st.fan_triangles},
+                             {"gpu_clipped", st.gpu_clipped}}},
+                   {"stages_ms", {{"sort", st.sort_ms}, {"project", st.project_ms}, {"vertex_and_setup", st.setup_ms},
+                                  {"raster_and_fragment", st.raster_fragment_ms}, {"readback", st.readback_ms}}}};
+        if (ctx_) r.stats["gl"] = ctx_->info().summary();
+        r.image = std::move(f.image);
+        r.fragments = std::move(f.fragments);
+        r.ordering_errors = std::move(f.ordering_errors);
+        return r;
+    }
+
+private:
+    AlgoOptions a_;
+    std::unique_ptr<gpu::VicpRenderer> emu_;
+    std::unique_ptr<gpu::GlContext> ctx_;
+    std::unique_ptr<gpu::GlVicpRenderer> gl_;
+};
+
+// --- the regular-grid ray caster (gpu/raycast/): emulated, or on GL ---
+
+class RaycastRendererEntry : public Renderer {
+public:
+    RaycastRendererEntry(const Scene& s, const AlgoOptions& a)
+    {
+        const gpu::RaycastOptions o = raycast_options(a);
+        if (a.backend == "emu") {
+            emu_ = std::make_unique<gpu::RaycastRenderer>(s.volume(), s.tf, o);
+            return;
+        }
+        ctx_ = std::make_unique<gpu::GlContext>(gpu::parse_gl_platform(a.gl));
+        gl_ = std::make_unique<gpu::GlRaycastRenderer>(*ctx_, s.volume(), s.tf, o);
+    }
+
+    AlgoResult render(const Camera& camera, int width, int height) override
+    {
+        gpu::RaycastFrame f = emu_ ? emu_->render(camera, width, height) : gl_->render(camera, width, height);
+        const gpu::RaycastVolume& rv = emu_ ? emu_->cpu_stage() : gl_->cpu_stage();
+        AlgoResult r;
+        const auto& st = f.stats;
+        const gpu::RaycastOptions& o = rv.options();
+        r.stats = {{"step", o.step},
+                   {"preintegrate", o.preintegrate},
+                   {"classification", o.preintegrate ? "pre-integrated" : "post"},
+                   {"threshold", o.threshold},
+                   {"shading", o.light.has_value()},
+                   {"volume_format", gpu::texel_format_name(rv.texel_format())},
+                   {"texture_bytes", rv.texture_bytes()},
+                   {"rays", st.rays},
+                   {"samples", st.samples},
+                   {"max_samples_per_pixel", st.max_samples},
+                   {"table_ms", st.table_ms},
+                   {"stages_ms", {{"setup", st.setup_ms}, {"march", st.march_ms}, {"readback", st.readback_ms}}}};
+        if (ctx_) r.stats["gl"] = ctx_->info().summary();
+        r.image = std::move(f.image);
+        r.samples = std::move(f.samples);
+        return r;
+    }
+
+private:
+    std::unique_ptr<gpu::RaycastRenderer> emu_;
+    std::unique_ptr<gpu::GlContext> ctx_;
+    std::unique_ptr<gpu::GlRaycastRenderer> gl_;
+};
+
+double per_s(double count, double ms) { return count / (ms / 1000.0); }
+double stage(const nlohmann::json& row, const char* name) { return row["stages"][name].get<double>(); }
+
+std::vector<Algorithm> make_registry()
+{
+    const auto single = [](const AlgoOptions& a, const std::vector<std::string>&) { return std::vector{a}; };
+    std::vector<Algorithm> r;
+
+    r.push_back({"reference", Inputs::both, {"cpu"}, [](const AlgoOptions&) {},
+                 [](const AlgoOptions&) { return std::string("reference"); },
+                 [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
+                     return std::make_unique<ReferenceRenderer>(s, !a.no_cache);
+                 },
+                 single,
+                 [](nlohmann::json& row, const Scene&) {
+                     const double fm = row["frame_ms"].get<double>();
+                     row["stages"]["setup"] = row["build_ms"];
+                     row["rays_per_s"] = per_s(row["rays"].get<double>(), fm);
+                     // A mesh's segments, a grid's cell pieces.
+                     row["segments_per_s"] = per_s(row.value("segments", row.value("cell_pieces", 0.0)), fm);
+                 },
+                 [](const nlohmann::json& r) {
+                     std::printf(" %6.2f Mrays/s  %6.2f Msegments/s  (setup %.1f ms)\n", r["rays_per_s"].get<double>() / 1e6,
+                                 r["segments_per_s"].get<double>() / 1e6, stage(r, "setup"));
+                 }});
+
+    r.push_back({"havs", Inputs::mesh, {"emu", "gl"}, [](const AlgoOptions& a) { havs_options(a); },
+                 [](const AlgoOptions& a) { return "havs-" + a.backend + "-k" + std::to_string(a.k); },
+                 [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
+                     return std::make_unique<HavsRendererEntry>(s, a);
+                 },
+                 single,
+                 [](nlohmann::json& row, const Scene& s) {
+                     row["tetrahedra_per_s"] = per_s(double(s.mesh().tets.size()), row["frame_ms"].get<double>());
+                     if (row.value("fragments", uint64_t(0)))
+                         row["fragments_per_s"] = per_s(row["fragments"].get<double>(), stage(row, "raster_and_fragment"));
+                 },
+                 [](const nlohmann::json& r) {
+                     std::printf(" k=%d  %6.2f Mfragments/s  sort %.1f, vertex+setup %.1f, raster+fragment %.1f, flush "
+                                 "%.1f, readback %.1f ms (built in %.0f ms)\n",
+                                 r["k"].get<int>(), r.value("fragments_per_s", 0.0) / 1e6, stage(r, "sort"),
+                                 stage(r, "vertex_and_setup"), stage(r, "raster_and_fragment"), stage(r, "flush"),
+                                 stage(r, "readback"), r["build_ms"].get<double>());
+                 }});
+
+    r.push_back({"vicp", Inputs::mesh, {"emu", "gl"}, [](const AlgoOptions& a) { vicp_options(a); },
+                 [](const AlgoOptions& a) { return "vicp-" + a.backend + "-" + a.order; },
+                 [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
+                     return std::make_unique<VicpRendererEntry>(s, a);
+                 },
+                 [](const AlgoOptions& a, const std::vector<std::string>& orders) {
+                     std::vector<AlgoOptions> v;
+                     for (const auto& o : orders) {
+                         v.push_back(a);
+                         v.back().order = o;
+                     }
+                     return v;
+                 },
+                 [](nlohmann::json& row, const Scene& s) {
+                     row["tetrahedra_per_s"] = per_s(double(s.mesh().tets.size()), row["frame_ms"].get<double>());
+                     row["fragments_per_s"] = per_s(row["fragments"].get<double>(), stage(row, "raster_and_fragment"));
+                 },
+                 [](const nlohmann::json& r) {
+                     std::printf(" %-8s %6.2f Mfragments/s  sort %.1f, project %.1f, vertex+setup %.1f, raster+fragment "
+                                 "%.1f ms; %.0f bytes sent per tetrahedron (the seed's: %.0f); %llu ordering errors, "
+                                 "%llu cycle breaks\n",
+                                 r["order"].get<std::string>().c_str(), r["fragments_per_s"].get<double>() / 1e6,
+                                 stage(r, "sort"), stage(r, "project"), stage(r, "vertex_and_setup"),
+                                 stage(r, "raster_and_fragment"), r["bytes_sent_per_tet"].get<double>(),
+                                 r["seed_bytes_sent_per_tet"].get<double>(),
+                                 (unsigned long long)r["ordering_errors"].get<uint64_t>(),
+                                 (unsigned long long)r["cycle_breaks"].get<uint64_t>());
+                 }});
+
+    r.push_back({"raycast", Inputs::grid, {"emu", "gl"}, [](const AlgoOptions& a) { raycast_options(a); },
+                 [](const AlgoOptions& a) {
+                     return "raycast-" + a.backend + (a.preintegrate ? "-preint" : "-post");
+                 },
+                 [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
+                     return std::make_unique<RaycastRendererEntry>(s, a);
+                 },
+                 [](const AlgoOptions& a, const std::vector<std::string>&) {
+                     std::vector<AlgoOptions> v(2, a);
+                     v[0].preintegrate = false;
+                     v[1].preintegrate = true;
+                     return v;
+                 },
+                 [](nlohmann::json& row, const Scene&) {
+                     row["samples_per_s"] = per_s(row["samples"].get<double>(), stage(row, "march"));
+                 },
+                 [](const nlohmann::json& r) {
+                     std::printf(" %-14s %6.2f Msamples/s  setup %.1f, march %.1f, readback %.1f ms; step %g, %s "
+                                 "texture\n",
+                                 r["classification"].get<std::string>().c_str(), r["samples_per_s"].get<double>() / 1e6,
+                                 stage(r, "setup"), stage(r, "march"), stage(r, "readback"), r["step"].get<double>(),
+                                 r["volume_format"].get<std::string>().c_str());
+                 }});
     return r;
 }
 
 }  // namespace
 
-void run_algorithm_check(const std::string& algo)
+const std::vector<Algorithm>& algorithms()
 {
-    if (algo == "reference" || algo == "havs" || algo == "vicp" || algo == "raycast") return;
-    throw InputError("", "unknown algorithm '" + algo + "' (reference, havs, vicp, raycast)");
+    static const std::vector<Algorithm> registry = make_registry();
+    return registry;
 }
 
-void check_algorithm_scene(const Scene& s, const std::string& algo)
+const Algorithm& find_algorithm(const std::string& name)
 {
-    run_algorithm_check(algo);
-    if (algo == "havs" || algo == "vicp") s.mesh();  // throws for a regular grid
-    if (algo == "raycast" && !s.is_volume())
-        throw InputError(s.mesh().source, "is a tetrahedral mesh: --algo raycast renders regular grids (.vti, .nrrd, "
-                                          "structured points, raw)");
+    std::string known;
+    for (const Algorithm& a : algorithms()) {
+        if (a.name == name) return a;
+        known += (known.empty() ? "" : ", ") + a.name;
+    }
+    throw InputError("", "unknown algorithm '" + name + "' (" + known + ")");
 }
 
-AlgoResult run_algorithm(const Scene& s, const std::string& algo, const AlgoOptions& o)
+std::string backend_of(const Algorithm& algo, const AlgoOptions& o)
 {
-    run_algorithm_check(algo);
-    if (algo == "reference") return run_reference(s, !o.no_cache);
-    if (algo == "raycast") return run_raycast(s, o);
-    return algo == "vicp" ? run_vicp(s, o) : run_havs(s, o);
+    return algo.backends.size() == 1 ? algo.backends[0] : o.backend;
+}
+
+void run_algorithm_check(const std::string& algo) { find_algorithm(algo); }
+
+void check_algorithm_scene(const Scene& s, const std::string& name)
+{
+    const Algorithm& algo = find_algorithm(name);
+    if (algo.inputs == Inputs::mesh) s.mesh();  // throws for a regular grid
+    if (algo.inputs == Inputs::grid && !s.is_volume())
+        throw InputError(s.mesh().source, "is a tetrahedral mesh: --algo " + name +
+                                              " renders regular grids (.vti, .nrrd, structured points, raw)");
+}
+
+AlgoResult run_algorithm(const Scene& s, const std::string& name, const AlgoOptions& o)
+{
+    const Algorithm& algo = find_algorithm(name);
+    if (algo.backends.size() > 1) check_backend(o);
+    algo.check_options(o);
+    check_algorithm_scene(s, name);
+    const auto t0 = Clock::now();
+    const std::unique_ptr<Renderer> renderer = algo.make(s, o);
+    AlgoResult r = renderer->render(s.camera, s.width, s.height);
+    if (!r.cached && r.ms == 0.0) r.ms = ms_since(t0);  // the reference reports its integration alone
+    return r;
 }
 
 std::vector<std::string> split_list(const std::string& s)

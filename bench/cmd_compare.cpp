@@ -53,13 +53,13 @@ nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos
         write_image(dir + "/" + label + ".npy", r.image);
         nlohmann::json j = measures_json(measure_errors(r.image, ref.image));
         j["algo"] = algo;
-        j["backend"] = algo == "reference" ? "cpu" : o.backend;
+        j["backend"] = backend_of(find_algorithm(algo), o);
         j["label"] = label;
         j["image"] = label + ".png";
         j["ms"] = r.ms;
         j["cached"] = r.cached;
         j["stats"] = r.stats;
-        if (algo != "reference") {
+        if (&r != &ref) {
             write_png_rgb8(dir + "/" + label + "-error.png", s.width, s.height,
                            error_heat_map(pixel_errors(r.image, ref.image)));
             j["error_map"] = label + "-error.png";
@@ -72,10 +72,7 @@ nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos
         const AlgoResult r = run_algorithm(s, algo, o);
         // The label names what sets the image apart: HAVS's backend and k, VICP's backend and cell order, the ray
         // caster's backend and classification.
-        const std::string label = algo == "havs"      ? "havs-" + o.backend + "-k" + std::to_string(o.k)
-                                  : algo == "vicp"    ? "vicp-" + o.backend + "-" + o.order
-                                  : algo == "raycast" ? "raycast-" + o.backend + (o.preintegrate ? "-preint" : "-post")
-                                                      : algo;
+        const std::string label = find_algorithm(algo).label(o);
         add(algo, r, label);
     }
     write_file_atomically(dir + "/metrics.json", m.dump(1) + "\n");

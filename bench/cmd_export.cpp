@@ -7,7 +7,7 @@
 
 #include "bench/commands.h"
 #include "bench/scene.h"
-#include "gpu/raycast_setup.h"
+#include "gpu/raycast/raycast_setup.h"
 #include "reference/error.h"
 #include "reference/io_util.h"
 #include "reference/write_vtk.h"

@@ -73,7 +73,7 @@ void register_render(CLI::App& app)
         if (a->json) {
             nlohmann::json j = r.stats;
             j["algo"] = a->algo;
-            j["backend"] = a->algo == "reference" ? "cpu" : a->algo_options.backend;
+            j["backend"] = backend_of(find_algorithm(a->algo), a->algo_options);
             j["out"] = a->out;
             j["width"] = s.width;
             j["height"] = s.height;

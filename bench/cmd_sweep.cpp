@@ -18,7 +18,7 @@
 #include "bench/progress.h"
 #include "bench/report.h"
 #include "bench/sweep_step.h"
-#include "gpu/gl_havs.h"
+#include "gpu/havs/gl_havs.h"
 #include "reference/error.h"
 #include "reference/error_measures.h"
 #include "reference/io_util.h"

@@ -1,8 +1,8 @@
 // The vertex stage's position, shared by HAVS (havs_vertex.vert) and VICP (vicp.vert): the GLSL twin of
-// gpu/havs_vertex.cpp clip_position. World position to clip coordinates with the model-view-projection matrix the
+// gpu/pipeline/clip_position.cpp clip_position. World position to clip coordinates with the model-view-projection matrix the
 // CPU built in double and rounded to float once; each row as ((m0 * x + m1 * y) + m2 * z) + m3, every result
 // `precise` so that no compiler fuses or reorders it. What the rasterizer does next (the draw module's viewport
-// transform, snapping) is emulated in gpu/rasterize.cpp.
+// transform, snapping) is emulated in gpu/pipeline/rasterize.cpp.
 
 // mvp is column-major, as Mat4f: mvp[c][r] is column c, row r.
 float clip_row(mat4 mvp, vec3 p, int r)

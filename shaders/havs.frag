@@ -1,4 +1,4 @@
-// HAVS's two passes on the GPU: the GLSL side of gpu/havs.cpp (the emulated driver) and gpu/gl_havs.cpp (the GL
+// HAVS's two passes on the GPU: the GLSL side of gpu/havs/havs.cpp (the emulated driver) and gpu/havs/gl_havs.cpp (the GL
 // driver). havs_fragment.frag is compiled in front of this file; the prelude defines
 //   HAVS_K             the number of stored entries
 //   HAVS_TARGETS       the k-buffer's colour attachments, (HAVS_K + 1) / 2: two entries (x, y) a texel, as in the seed
@@ -41,7 +41,7 @@ void main()
 #ifdef HAVS_PASS_FLUSH
     // The flush: k runs of the program on kFlushFragment (-1, +inf), one after the other, in one full-screen pass.
     // Each pixel sees the same k runs in the same order as from k passes of one run each (the emulation's loop in
-    // gpu/havs.cpp), with one fetch and one store of the attachments instead of k.
+    // gpu/havs/havs.cpp), with one fetch and one store of the attachments instead of k.
     for (int run = 0; run < HAVS_K; ++run) havs_kbuffer(vec2(-1.0, uintBitsToFloat(0x7f800000u)), a, fb);
 #else
     // The face's constants, in sorted order (gl_PrimitiveID counts the draw's triangles). A boundary face arrives with

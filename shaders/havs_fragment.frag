@@ -1,9 +1,9 @@
-// HAVS's fragment stage (seed 000, Appendix II): the GLSL twin of gpu/havs_fragment.cpp, operation for operation.
+// HAVS's fragment stage (seed 000, Appendix II): the GLSL twin of gpu/havs/havs_fragment.cpp, operation for operation.
 // Read that file's header first; the comments here only say where GLSL needs care.
 //
 // This file holds the stage's functions, no main(): a pass appends its own main (the harness:
 // havs_fragment_harness.frag), which also defines havs_shade(), the segment lookup. preintegration_table.frag is
-// compiled in front of it. The prelude gpu/gl_context.cpp
+// compiled in front of it. The prelude gpu/gl/gl_context.cpp
 // puts in front carries the pass's defines,
 //   HAVS_K            the number of stored entries, 1 .. (draw buffers - 1) * 2 in a real pass,
 //   HAVS_DIAGNOSTICS  (optional) havs_kbuffer also updates havs_diag, the emulation's KBufferDiagnostics.
@@ -34,7 +34,7 @@ struct HavsFace {
     float side;       // -1 exit, 1 interior, 16 entry face (kSideExit, kSideInterior, kSideEntry)
 };
 
-// The records: GlHavsFace of gpu/gl_havs_fragment.h, havs_face_texels RGBA32UI texels a face, read with texelFetch
+// The records: GlHavsFace of gpu/havs/gl_havs_fragment.h, havs_face_texels RGBA32UI texels a face, read with texelFetch
 // (the bits as uploaded: doubles reassembled from their two words). A buffer texture, not a shader storage buffer,
 // for speed: llvmpipe reads a storage buffer at an index it cannot prove uniform (gl_PrimitiveID is not, to it) one
 // lane and one scalar at a time, while a texel fetch is one gather per channel; on a Blunt Fin frame the former
@@ -70,10 +70,10 @@ HavsFace havs_face(int id)
     return f;
 }
 
-// kOutsideTolerance of gpu/havs_fragment.h.
+// kOutsideTolerance of gpu/havs/havs_fragment.h.
 const double havs_outside_tolerance = 0.1lf;
 
-// kSideOutside and kSideEntry of gpu/havs_fragment.h: an extrapolated fragment's side (|x| in [4, 8]) and an entry
+// kSideOutside and kSideEntry of gpu/havs/havs_fragment.h: an extrapolated fragment's side (|x| in [4, 8]) and an entry
 // face's (|x| in [16, 32]).
 const float havs_side_outside = 4.0;
 const float havs_side_entry = 16.0;

@@ -1,5 +1,5 @@
 // Runs the HAVS fragment stage (havs_fragment.frag, compiled in front of this file) alone on inputs laid out per
-// pixel: one test case per pixel of a full-screen pass (gpu/gl_stage_harness.cpp). Exactly one of
+// pixel: one test case per pixel of a full-screen pass (gpu/havs/gl_havs_harness.cpp). Exactly one of
 //   HARNESS_ENTRY     havs_fragment_entry on face havs_face(case) at pixel harness_pixels[case]
 //   HARNESS_KBUFFER   havs_kbuffer on the case's stored entries, framebuffer colour and incoming entry
 // is defined; with HARNESS_KBUFFER, HARNESS_SHADE_TABLE looks segments up in the real 3D table

@@ -1,5 +1,5 @@
 // The ray caster's full-screen pass (drawn with fullscreen.vert): one fragment per pixel runs the march
-// (raycast_fragment.frag) and writes the colour and the number of samples (gpu/gl_raycast.cpp reads both back).
+// (raycast_fragment.frag) and writes the colour and the number of samples (gpu/raycast/gl_raycast.cpp reads both back).
 layout(location = 0) out vec4 rc_colour;
 layout(location = 1) out vec4 rc_diagnostics;
 

@@ -1,11 +1,11 @@
-// The ray caster's fragment program (seed 002): the GLSL twin of gpu/raycast_fragment.cpp, operation for operation.
+// The ray caster's fragment program (seed 002): the GLSL twin of gpu/raycast/raycast_fragment.cpp, operation for operation.
 // Read that file's header first; the comments here only say where GLSL needs care. classification_table.frag and
 // preintegration_table.frag are compiled in front of this file; a pass appends its own main (raycast.frag in the
 // renderer), which also defines raycast_segment(), a pre-integrated segment's colour.
 //
 // Every arithmetic result is `precise` (no fused multiply-add the emulation does not do). The ray is computed in
 // double (IEEE operations on llvmpipe), the march in float, as the emulation does; llvmpipe runs shaders with
-// denormals flushed and the emulation runs under FlushDenormals (gpu/denormals.h).
+// denormals flushed and the emulation runs under FlushDenormals (gpu/pipeline/denormals.h).
 
 // ---- Per-frame constants (RaycastFrameConstants) ----
 uniform double rc_two_over_width, rc_two_over_height;
@@ -29,10 +29,10 @@ uniform int rc_shininess;
 uniform vec3 rc_texel;
 uniform vec3 rc_gradient_scale;
 
-// The volume texture: one channel, R8 / R16 / R32F, GL_LINEAR, CLAMP_TO_EDGE (gpu/gl_raycast.cpp).
+// The volume texture: one channel, R8 / R16 / R32F, GL_LINEAR, CLAMP_TO_EDGE (gpu/raycast/gl_raycast.cpp).
 layout(binding = 0) uniform sampler3D raycast_volume;
 
-// RaycastRay of gpu/raycast_fragment.h.
+// RaycastRay of gpu/raycast/raycast_fragment.h.
 struct RaycastRay {
     int samples;
     vec3 tex0, dtex, tex_exit;
@@ -217,7 +217,7 @@ void raycast_composite(inout vec4 acc, vec4 c)
 // What a pre-integrated segment contributes (the pass defines it: preintegration_lookup in the renderer).
 vec4 raycast_segment(float x_front, float x_back, float t_z, float seg_length);
 
-// raycast_march of gpu/raycast_fragment.cpp: the colour, and the samples taken (as a float: exact below 2^24).
+// raycast_march of gpu/raycast/raycast_fragment.cpp: the colour, and the samples taken (as a float: exact below 2^24).
 vec4 raycast_march(RaycastRay ray, out float samples)
 {
     vec4 acc = vec4(0.0);

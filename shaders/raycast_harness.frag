@@ -1,6 +1,6 @@
 // Runs the ray caster's fragment program (raycast_fragment.frag, compiled in front of this file behind
 // classification_table.frag and preintegration_table.frag) alone: one case per pixel of a full-screen pass, inputs
-// and outputs in storage buffers laid out as gpu/gl_raycast_harness.cpp's Gl* structs. Exactly one of
+// and outputs in storage buffers laid out as gpu/raycast/gl_raycast_harness.cpp's Gl* structs. Exactly one of
 //   HARNESS_RAY    raycast_ray_exact at pixel harness_pixels[case], every double before its rounding
 //   HARNESS_MARCH  raycast_march of ray harness_rays[case] over the bound textures
 //   HARNESS_LIGHT  raycast_light_factors of harness_lights[case]

@@ -1,4 +1,4 @@
-// VICP's draw (gpu/gl_vicp.cpp): the fragment program's main. preintegration_table.frag, vicp_tet.glsl and
+// VICP's draw (gpu/vicp/gl_vicp.cpp): the fragment program's main. preintegration_table.frag, vicp_tet.glsl and
 // vicp_fragment.frag are compiled in front of this file; vicp.vert is its vertex side.
 //
 // Front-to-back compositing reads the framebuffer colour in the shader (GL_EXT_shader_framebuffer_fetch, coherent:

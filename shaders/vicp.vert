@@ -1,17 +1,17 @@
-// VICP's draw (gpu/gl_vicp.cpp): the vertex program's main. clip_position.vert, vicp_tet.glsl and vicp_vertex.vert
+// VICP's draw (gpu/vicp/gl_vicp.cpp): the vertex program's main. clip_position.vert, vicp_tet.glsl and vicp_vertex.vert
 // are compiled in front of this file; vicp.frag is its fragment side.
 //
 // Two kinds of vertices, drawn in the stream's order by one glMultiDrawArrays(GL_TRIANGLES, ...) per chunk of the
-// stream (gpu/gl_vicp.cpp): runs of whole cells and the fans of the cells the view cuts (gpu/vicp_clip.h), between
+// stream (gpu/vicp/gl_vicp.cpp): runs of whole cells and the fans of the cells the view cuts (gpu/vicp/vicp_clip.h), between
 // them in their cells' places (GL keeps primitive order within a multi-draw as across draws).
 //   - gl_VertexID < vicp_whole_vertices (12 times the chunk's cells): corner (gl_VertexID % 12) of cell
-//     gl_VertexID / 12 of the chunk, corner 3f + j being vertex kVicpCorner[f][j] of face f (gpu/vicp_vertex.h), so
+//     gl_VertexID / 12 of the chunk, corner 3f + j being vertex kVicpCorner[f][j] of face f (gpu/vicp/vicp_vertex.h), so
 //     the four faces leave in the emulation's order; no vertex attributes.
 //   - from vicp_whole_vertices on: corner j of the chunk's fan triangle k, (gl_VertexID - vicp_whole_vertices) =
 //     3k + j, whose record (VicpFrameSetup::fans) holds its three vertices and its cell's slot in the whole stream.
 //
 // The constants are flat: the fragments see the provoking vertex's, which is each triangle's last (GL's default
-// GL_LAST_VERTEX_CONVENTION; gpu/gl_vicp.cpp sets it). Only that vertex computes them, 4 of a whole cell's 12 (the
+// GL_LAST_VERTEX_CONVENTION; gpu/vicp/gl_vicp.cpp sets it). Only that vertex computes them, 4 of a whole cell's 12 (the
 // emulation computes them once a cell: the same operations on the same inputs give the same bits); the others pass
 // zeros, which no fragment reads. llvmpipe shades vertices on one thread, in double: at 10 million cells this is
 // most of the frame (docs/vicp.md).

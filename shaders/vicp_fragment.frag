@@ -1,11 +1,11 @@
-// VICP's fragment stage (seed 003, VICP-FragmentProg): the GLSL twin of gpu/vicp_fragment.cpp, operation for
+// VICP's fragment stage (seed 003, VICP-FragmentProg): the GLSL twin of gpu/vicp/vicp_fragment.cpp, operation for
 // operation. Read that file's header first; the comments here only say where GLSL needs care. vicp_tet.glsl and
 // preintegration_table.frag are compiled in front of this file; a pass appends its own main (vicp.frag in the
 // renderer, vicp_harness.frag in the stage harness), which also defines vicp_shade(), the segment's colour.
 //
 // Every arithmetic result is `precise`. The segment is computed in double (IEEE operations on llvmpipe), the
 // compositing in float, as the emulation does; llvmpipe runs shaders with denormals flushed and the emulation runs
-// under FlushDenormals (gpu/denormals.h).
+// under FlushDenormals (gpu/pipeline/denormals.h).
 
 // ---- Per-frame constants (VicpFrameConstants) ----
 uniform double vicp_two_over_width, vicp_two_over_height;
@@ -16,10 +16,10 @@ uniform dvec3 vicp_ray_dx, vicp_ray_dy;
 uniform float vicp_threshold;
 uniform float vicp_length_scale, vicp_length_bias;
 
-// kParallelFace of gpu/vicp_fragment.h.
+// kParallelFace of gpu/vicp/vicp_fragment.h.
 const double vicp_parallel_face = 1e-12lf;
 
-// VicpSegment of gpu/vicp_fragment.h.
+// VicpSegment of gpu/vicp/vicp_fragment.h.
 struct VicpSegment {
     double s_front, s_back;
     double t_in, t_out;
@@ -102,7 +102,7 @@ VicpSegment vicp_fragment_values(VicpTet tet, ivec2 pix)
 // arguments and may return a given colour instead).
 vec4 vicp_shade(float u_front, float u_back, float t_z, float seg_length);
 
-// vicp_composite of gpu/vicp_fragment.cpp on one pixel: fb is the framebuffer colour, replaced by the composited one;
+// vicp_composite of gpu/vicp/vicp_fragment.cpp on one pixel: fb is the framebuffer colour, replaced by the composited one;
 // diag is VicpDiagnostics as floats (fragments, ordering errors, last back, last front; counts exact below 2^24).
 // Returns false when the fragment is killed: fb and diag are left as they were.
 bool vicp_composite(VicpSegment seg, inout vec4 fb, inout vec4 diag)

@@ -1,6 +1,6 @@
 // Runs VICP's fragment stage (vicp_fragment.frag, compiled in front of this file behind preintegration_table.frag
 // and vicp_tet.glsl) alone: one case per pixel of a full-screen pass, inputs and outputs in storage buffers laid out
-// as gpu/gl_vicp_harness.h's Gl* structs. Exactly one of
+// as gpu/vicp/gl_vicp_harness.h's Gl* structs. Exactly one of
 //   HARNESS_VALUES     vicp_fragment_values of tetrahedron harness_tets[case] at pixel harness_pixels[case]
 //   HARNESS_COMPOSITE  vicp_composite of the case's segment onto its framebuffer colour and diagnostics
 // is defined; with HARNESS_COMPOSITE, HARNESS_SHADE_TABLE looks the segment up in the real 3D table, otherwise

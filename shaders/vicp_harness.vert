@@ -1,7 +1,7 @@
 // Runs VICP's vertex stage (vicp_vertex.vert, compiled in front of this file behind vicp_tet.glsl) alone: one case
 // per vertex of glDrawArrays(GL_POINTS, 0, n) with the rasterizer discarding, each writing vicp_tet_constants of its
-// inputs to a storage buffer (gpu/gl_vicp_harness.cpp). The layouts are GlVicpVertexCase and GlVicpTet of
-// gpu/gl_vicp_harness.h.
+// inputs to a storage buffer (gpu/vicp/gl_vicp_harness.cpp). The layouts are GlVicpVertexCase and GlVicpTet of
+// gpu/vicp/gl_vicp_harness.h.
 
 struct HarnessVertexCase {
     double shape[12];  // four points, x y z each

@@ -1,5 +1,5 @@
 // What VICP's vertex program (vicp_vertex.vert) passes to its fragment program (vicp_fragment.frag), flat: the GLSL
-// twin of struct VicpTet in gpu/vicp_vertex.h, whose comments say what each member is. Compiled in front of both
+// twin of struct VicpTet in gpu/vicp/vicp_vertex.h, whose comments say what each member is. Compiled in front of both
 // stages' files. A flat varying is the provoking vertex's value copied without arithmetic, and every vertex of a
 // tetrahedron computes the same constants, so the fragment program sees the vertex program's bits.
 struct VicpTet {

@@ -1,4 +1,4 @@
-// VICP's vertex stage (seed 003, VICP-VertexProg): the GLSL twin of gpu/vicp_vertex.cpp, operation for operation.
+// VICP's vertex stage (seed 003, VICP-VertexProg): the GLSL twin of gpu/vicp/vicp_vertex.cpp, operation for operation.
 // Read that file's header first; the comments here only say where GLSL needs care. vicp_tet.glsl is compiled in
 // front of this file; a pass appends its own main (vicp.vert in the renderer, vicp_harness.vert in the stage
 // harness).

@@ -13,7 +13,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "gpu/preintegration_table.h"
+#include "gpu/pipeline/preintegration_table.h"
 
 namespace uvr::test {
 

@@ -6,7 +6,7 @@
 #include <sstream>
 #include <string>
 
-#include "gpu/gl_context.h"
+#include "gpu/gl/gl_context.h"
 #include "reference/image.h"
 
 namespace uvr::test {

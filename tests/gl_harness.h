@@ -9,7 +9,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "gpu/gl_context.h"
+#include "gpu/gl/gl_context.h"
 
 namespace uvr::test {
 

@@ -3,8 +3,8 @@
 // up to float32 fragment values and compositing.
 #pragma once
 
-#include "gpu/havs.h"
-#include "havs_scenes.h"
+#include "gpu/havs/havs.h"
+#include "mesh_scenes.h"
 #include "image_errors.h"
 #include "reference/reference_renderer.h"
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <random>
 
-#include "gpu/face_sort.h"
+#include "gpu/pipeline/face_sort.h"
 #include "test_support.h"
 
 using namespace uvr::gpu;

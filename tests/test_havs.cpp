@@ -3,7 +3,7 @@
 
 #include <tbb/global_control.h>
 
-#include "gpu/havs.h"
+#include "gpu/havs/havs.h"
 #include "havs_convergence.h"
 
 using namespace uvr;

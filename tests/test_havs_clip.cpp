@@ -1,4 +1,4 @@
-// The clip stage (gpu/clip.h) and HAVS through it: views that cut the mesh at the near plane (a camera inside the mesh,
+// The clip stage (gpu/pipeline/clip.h) and HAVS through it: views that cut the mesh at the near plane (a camera inside the mesh,
 // on its boundary) or at the image's sides (a view closer than the mesh's size), issue 10's "a camera inside the
 // mesh, a camera exactly on a face". The GL side of the same views is in test_havs_gl_frame.cpp.
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "gpu/clip.h"
+#include "gpu/pipeline/clip.h"
 #include "havs_convergence.h"
 
 using namespace uvr;
@@ -123,25 +123,8 @@ TEST_CASE("near-plane sections of a box's cells tile the box's cross-section")
 TEST_CASE("a camera inside the mesh or on its boundary: HAVS equals the reference")
 {
     // The cases of the reference's own inside-camera test, which checks the reference against the analytic chord.
-    SECTION("inside a cell")
-    {
-        require_converges(box_scene(6, 0.25), looking({2.3, 3.1, 2.7}, {6.0, 4.0, 5.0}), 64, 64, true);
-    }
-    SECTION("exactly on a grid vertex, rays along edges and faces")
-    {
-        require_converges(box_scene(6, 0.0), looking({3.0, 3.0, 3.0}, {6.0, 3.0, 3.0}), 64, 64, true);
-    }
-    SECTION("exactly on a boundary face, looking in")
-    {
-        require_converges(box_scene(6, 0.0), looking({3.2, 2.9, 0.0}, {3.0, 3.0, 6.0}), 64, 64, true);
-    }
-    SECTION("orthographic, the image plane inside the mesh")
-    {
-        Camera cam = looking({2.3, 3.1, 2.7}, {6.0, 4.0, 5.0});
-        cam.orthographic = true;
-        cam.ortho_height = 3.0;
-        require_converges(box_scene(6, 0.25), cam, 64, 48, true);
-    }
+    for (const test::CutView& v : test::inside_box_views())
+        DYNAMIC_SECTION(v.name) { require_converges(test::box_scene(6, v.jitter), v.camera, v.width, v.height, true); }
     SECTION("Blunt Fin, from inside its flow region")
     {
         const Scene s = test::blunt_fin();

@@ -5,9 +5,9 @@
 #include <cstring>
 #include <sstream>
 
-#include "gpu/gl_havs.h"
+#include "gpu/havs/gl_havs.h"
 #include "gl_frames.h"
-#include "havs_scenes.h"
+#include "mesh_scenes.h"
 #include "image_errors.h"
 #include "reference/reference_renderer.h"
 

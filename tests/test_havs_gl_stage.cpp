@@ -1,5 +1,5 @@
-// The HAVS fragment stage in GLSL (shaders/havs_fragment.frag) against its emulation (gpu/havs_fragment.cpp), bit for
-// bit, through the stage harness (gpu/gl_stage_harness.h) under OSMesa (llvmpipe), and the GL context layer's errors.
+// The HAVS fragment stage in GLSL (shaders/havs_fragment.frag) against its emulation (gpu/havs/havs_fragment.cpp), bit for
+// bit, through the stage harness (gpu/havs/gl_havs_harness.h) under OSMesa (llvmpipe), and the GL context layer's errors.
 // SPEC §5 (stage level): at least a million random inputs per stage, with exact ties, empty and flush entries, +inf
 // distances, zero- and maximum-length segments and alphas at the kill threshold. No OSMesa, no pass: a context that
 // cannot be made fails these tests with the reason (CI installs libosmesa6-dev and libegl-mesa0).
@@ -12,14 +12,15 @@
 #include <sstream>
 #include <vector>
 
-#include "gpu/denormals.h"
-#include "gpu/gl_context.h"
-#include "gpu/gl_stage_harness.h"
-#include "gpu/havs_fragment.h"
-#include "gpu/preintegration_table.h"
-#include "gpu/rasterize.h"
+#include "gpu/pipeline/denormals.h"
+#include "gpu/gl/gl_context.h"
+#include "gpu/havs/gl_havs_harness.h"
+#include "gpu/havs/havs_fragment.h"
+#include "gpu/pipeline/preintegration_table.h"
+#include "gpu/pipeline/rasterize.h"
 #include "reference/transfer_function.h"
 #include "bit_compare.h"
+#include "case_rng.h"
 #include "gl_harness.h"
 #include "test_support.h"
 
@@ -38,12 +39,9 @@ float next_down(float x) { return std::nextafter(x, -INFINITY); }
 
 // ---- k-buffer cases ----
 
-struct KBufferGen {
-    std::mt19937_64 rng;
+struct KBufferGen : test::CaseRng {
     float max_gap;
-    explicit KBufferGen(uint64_t seed, float gap) : rng(seed), max_gap(gap) {}
-    float uni(float a, float b) { return std::uniform_real_distribution<float>(a, b)(rng); }
-    int pick(int n) { return int(rng() % uint64_t(n)); }
+    explicit KBufferGen(uint64_t seed, float gap) : CaseRng(seed), max_gap(gap) {}
 
     // A per-case pool of distances, so that entries tie exactly; some pairs a maximum-length segment apart (exactly,
     // and one ulp either side) and some zero-length.
@@ -52,7 +50,7 @@ struct KBufferGen {
     {
         pool.clear();
         const int n = 1 + pick(6);
-        for (int i = 0; i < n; ++i) pool.push_back(uni(0.25f, 8.0f));
+        for (int i = 0; i < n; ++i) pool.push_back(unif(0.25f, 8.0f));
         if (max_gap > 0.0f && pick(2) == 0) {
             // 1 + max_gap is exact for the gaps used here (dyadic), so the segment length comes out as max_gap.
             const float base = 1.0f, variants[3] = {max_gap, next_up(max_gap), next_down(max_gap)};
@@ -64,11 +62,11 @@ struct KBufferGen {
     {
         switch (pick(12)) {
         case 0: return INFINITY;
-        case 1: return uni(0.01f, 100.0f);
+        case 1: return unif(0.01f, 100.0f);
         default: return pool[std::size_t(pick(int(pool.size())))];
         }
     }
-    float scalar() { return pick(16) == 0 ? float(pick(2)) : uni(0.0f, 1.0f); }
+    float scalar() { return pick(16) == 0 ? float(pick(2)) : unif(0.0f, 1.0f); }
     // Exit, entry and extrapolated faces' entries (1 in 5 each), interior faces' (2 in 5).
     float side()
     {
@@ -93,14 +91,14 @@ struct KBufferGen {
         case 1: a = next_up(threshold); break;
         case 2: a = next_down(threshold); break;
         case 3: a = float(pick(2)); break;
-        default: a = uni(0.0f, 1.0f);
+        default: a = unif(0.0f, 1.0f);
         }
-        return {uni(0.0f, 1.0f) * a, uni(0.0f, 1.0f) * a, uni(0.0f, 1.0f) * a, a};
+        return {unif(0.0f, 1.0f) * a, unif(0.0f, 1.0f) * a, unif(0.0f, 1.0f) * a, a};
     }
     glm::vec4 colour()
     {
-        const float a = pick(10) == 0 ? float(pick(2)) : uni(0.0f, 1.0f);
-        return {uni(0.0f, 1.0f) * a, uni(0.0f, 1.0f) * a, uni(0.0f, 1.0f) * a, a};
+        const float a = pick(10) == 0 ? float(pick(2)) : unif(0.0f, 1.0f);
+        return {unif(0.0f, 1.0f) * a, unif(0.0f, 1.0f) * a, unif(0.0f, 1.0f) * a, a};
     }
 };
 
@@ -180,14 +178,11 @@ glm::dvec2 entry_values(const HavsFrameConstants& fc, const HavsFace& f, int pix
 // constants havs.cpp computes: window coordinates and 1 / w in double, the rasterizer's snapped vertices, normalized
 // scalars. Pixels: ones the rasterizer covers (the real inputs, slivers' snapping-only pixels included) and others
 // anywhere near the triangle (extrapolation, the snapped branch).
-struct EntryGen {
-    std::mt19937_64 rng;
+struct EntryGen : test::CaseRng {
     bool ortho;
     int width = 640, height = 480;
     double fov_scale = 1.0 / std::tan(0.25), ortho_half_h = 3.0;
-    explicit EntryGen(uint64_t seed, bool orthographic) : rng(seed), ortho(orthographic) {}
-    double uni(double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
-    int pick(int n) { return int(rng() % uint64_t(n)); }
+    explicit EntryGen(uint64_t seed, bool orthographic) : CaseRng(seed), ortho(orthographic) {}
 
     HavsFrameConstants frame() const
     {
@@ -420,7 +415,7 @@ TEST_CASE("denormals: llvmpipe flushes them (DAZ and FTZ), and so does the emula
     // llvmpipe runs shaders with the x86 MXCSR's denormals-are-zero and flush-to-zero bits set, whatever the thread
     // (LP_NUM_THREADS 0, 1, 2 alike). With gradual underflow the emulation would differ on colours with denormals and
     // on compositing that underflows ("as is" below, asserted to differ, so that a Mesa that stops flushing is
-    // noticed); under FlushDenormals (gpu/denormals.h), which the emulated driver sets around its fragment stage, it
+    // noticed); under FlushDenormals (gpu/pipeline/denormals.h), which the emulated driver sets around its fragment stage, it
     // computes the GL bits exactly. Denormal distances differ even then (llvmpipe also flushes some distances the
     // program only moves); the entry stage never produces them. docs/gl-backend.md.
     GlHavsFragmentHarness& h = *gl(GlPlatform::osmesa).harness;

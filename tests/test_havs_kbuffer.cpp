@@ -4,8 +4,8 @@
 #include <cstdlib>
 #include <vector>
 
-#include "gpu/havs_fragment.h"
-#include "gpu/rasterize.h"
+#include "gpu/havs/havs_fragment.h"
+#include "gpu/pipeline/rasterize.h"
 #include "test_support.h"
 
 using namespace uvr::gpu;

@@ -1,11 +1,11 @@
-// Pre-integration tables (gpu/preintegration_table.h): the 3D table's texels against the exact segment integral,
+// Pre-integration tables (gpu/pipeline/preintegration_table.h): the 3D table's texels against the exact segment integral,
 // its coordinate conventions, its error in table mode as the resolution grows, and Moreland's Ψ table.
 #include <cmath>
 #include <cstring>
 #include <random>
 #include <stdexcept>
 
-#include "gpu/preintegration_table.h"
+#include "gpu/pipeline/preintegration_table.h"
 #include "reference/transfer_function.h"
 #include "test_support.h"
 

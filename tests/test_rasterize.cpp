@@ -1,4 +1,4 @@
-// llvmpipe's rasterization rules (gpu/rasterize.h): snapping, the fill rule, culling, framebuffer clipping, closed
+// llvmpipe's rasterization rules (gpu/pipeline/rasterize.h): snapping, the fill rule, culling, framebuffer clipping, closed
 // surfaces, and triangles whose coverage was recorded from a real OSMesa run (Mesa 22.3.6).
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
-#include "gpu/rasterize.h"
+#include "gpu/pipeline/rasterize.h"
 #include "reference/builtin_mesh.h"
 #include "reference/camera.h"
 #include "reference/cells.h"

@@ -3,7 +3,7 @@
 // hard for a ray caster (grazing the box, a volume one sample thick, a camera inside) give finite images and stop.
 #include <cmath>
 
-#include "gpu/raycast.h"
+#include "gpu/raycast/raycast.h"
 #include "reference/error_measures.h"
 #include "reference/reference_renderer.h"
 #include "reference/volume_integrator.h"

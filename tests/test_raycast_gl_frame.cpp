@@ -2,7 +2,7 @@
 // frame and the emulated frame must be the same float32 RGBA bits at every pixel, with the same number of samples per
 // pixel, for every volume format, both classifications, shading, early termination and the hard views.
 #include "gl_frames.h"
-#include "gpu/gl_raycast.h"
+#include "gpu/raycast/gl_raycast.h"
 #include "volume_scenes.h"
 
 using namespace uvr;

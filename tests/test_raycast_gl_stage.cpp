@@ -1,5 +1,5 @@
 // The ray caster's fragment program in GLSL (shaders/raycast_fragment.frag) against its emulation
-// (gpu/raycast_fragment.cpp), bit for bit, through the ray caster's stage harness (gpu/gl_raycast_harness.h) under
+// (gpu/raycast/raycast_fragment.cpp), bit for bit, through the ray caster's stage harness (gpu/raycast/gl_raycast_harness.h) under
 // OSMesa (llvmpipe). SPEC §5 (stage level): a million random inputs for each part of the program:
 //   - the ray (double): random cameras and boxes, rays along the box's faces and parallel to its planes, eyes inside
 //     and on a face, flat boxes, steps that hit the sample cap; every double compared before its rounding to float;
@@ -13,10 +13,11 @@
 #include <vector>
 
 #include "bit_compare.h"
+#include "case_rng.h"
 #include "gl_harness.h"
-#include "gpu/denormals.h"
-#include "gpu/gl_raycast_harness.h"
-#include "gpu/pixel_rays.h"
+#include "gpu/pipeline/denormals.h"
+#include "gpu/raycast/gl_raycast_harness.h"
+#include "gpu/pipeline/pixel_rays.h"
 #include "volume_scenes.h"
 
 using namespace uvr;
@@ -28,13 +29,8 @@ namespace {
 using Gl = test::GlHarness<GlRaycastHarness>;
 Gl& gl(GlPlatform p) { return test::gl_harness<GlRaycastHarness>(p); }
 
-struct Rng {
-    std::mt19937_64 rng;
-    explicit Rng(uint64_t seed) : rng(seed) {}
-    double uni(double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
-    float unif(float a, float b) { return std::uniform_real_distribution<float>(a, b)(rng); }
-    int pick(int n) { return int(rng() % uint64_t(n)); }
-    glm::dvec3 vec(double r) { return {uni(-r, r), uni(-r, r), uni(-r, r)}; }
+struct Rng : test::CaseRng {
+    explicit Rng(uint64_t seed) : CaseRng(seed) {}
 };
 
 // ---- the ray ----

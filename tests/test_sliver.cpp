@@ -6,7 +6,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "gpu/vicp.h"
+#include "gpu/vicp/vicp.h"
 #include "havs_convergence.h"
 
 using namespace uvr;

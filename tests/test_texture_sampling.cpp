@@ -1,4 +1,4 @@
-// The emulation of llvmpipe's texture sampling (gpu/texture_sampling.h): its building blocks, what GL_NEAREST and
+// The emulation of llvmpipe's texture sampling (gpu/pipeline/texture_sampling.h): its building blocks, what GL_NEAREST and
 // GL_LINEAR with CLAMP_TO_EDGE must return, and values recorded from OSMesa 22.3.6 that it reproduces bit for bit.
 #include <cmath>
 #include <cstring>
@@ -6,7 +6,7 @@
 #include <random>
 #include <vector>
 
-#include "gpu/texture_sampling.h"
+#include "gpu/pipeline/texture_sampling.h"
 #include "test_support.h"
 
 using namespace uvr::gpu;

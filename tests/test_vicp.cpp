@@ -4,8 +4,8 @@
 #include <cstring>
 
 #include "box_mesh.h"
-#include "gpu/vicp.h"
-#include "havs_scenes.h"
+#include "gpu/vicp/vicp.h"
+#include "mesh_scenes.h"
 #include "image_errors.h"
 #include "reference/reference_renderer.h"
 
@@ -17,7 +17,7 @@ namespace {
 
 // Issue 6's bar: with exact segments and a correct order, VICP computes the reference's integral per cell, up to
 // float32 fragment values and compositing; the largest error is issue 4's bar for HAVS, whose errors come from the
-// same roundings. (The cells' interior faces are where the rasterizer drew them, gpu/vicp_fragment.h "Snapping":
+// same roundings. (The cells' interior faces are where the rasterizer drew them, gpu/vicp/vicp_fragment.h "Snapping":
 // that moves no boundary, and inside the mesh only splits a ray's path differently between its cells.)
 constexpr double kConvergenceRmse = 1e-5;
 // The largest error on any pixel: this catches a region lost or composited out of order, which costs far more than
@@ -252,27 +252,11 @@ TEST_CASE("a camera inside the mesh or on its boundary: VICP equals the referenc
 {
     // The views of HAVS's clip test (test_havs_clip.cpp), after the reference's own inside-camera test, which checks
     // the reference against the analytic chord.
-    using test::box_scene;
-    using test::looking;
-    SECTION("inside a cell")
-    {
-        require_clipped_converges(box_scene(6, 0.25), looking({2.3, 3.1, 2.7}, {6.0, 4.0, 5.0}), 64, 64, true);
-    }
-    SECTION("exactly on a grid vertex, rays along edges and faces")
-    {
-        require_clipped_converges(box_scene(6, 0.0), looking({3.0, 3.0, 3.0}, {6.0, 3.0, 3.0}), 64, 64, true);
-    }
-    SECTION("exactly on a boundary face, looking in")
-    {
-        require_clipped_converges(box_scene(6, 0.0), looking({3.2, 2.9, 0.0}, {3.0, 3.0, 6.0}), 64, 64, true);
-    }
-    SECTION("orthographic, the image plane inside the mesh")
-    {
-        Camera cam = looking({2.3, 3.1, 2.7}, {6.0, 4.0, 5.0});
-        cam.orthographic = true;
-        cam.ortho_height = 3.0;
-        require_clipped_converges(box_scene(6, 0.25), cam, 64, 48, true);
-    }
+    for (const test::CutView& v : test::inside_box_views())
+        DYNAMIC_SECTION(v.name)
+        {
+            require_clipped_converges(test::box_scene(6, v.jitter), v.camera, v.width, v.height, true);
+        }
     SECTION("Blunt Fin, from inside its flow region")
     {
         const Scene s = test::blunt_fin();

@@ -2,9 +2,9 @@
 // the emulated frame must be the same float32 RGBA bits at every pixel, with the same coverage and the same per-pixel
 // diagnostics (fragments, ordering errors).
 #include "box_mesh.h"
-#include "gpu/gl_vicp.h"
+#include "gpu/vicp/gl_vicp.h"
 #include "gl_frames.h"
-#include "havs_scenes.h"
+#include "mesh_scenes.h"
 #include "image_errors.h"
 #include "reference/reference_renderer.h"
 

@@ -1,6 +1,6 @@
 // VICP's vertex and fragment programs in GLSL (shaders/vicp_vertex.vert, shaders/vicp_fragment.frag) against their
-// emulations (gpu/vicp_vertex.cpp, gpu/vicp_fragment.cpp), bit for bit, through the VICP stage harness
-// (gpu/gl_vicp_harness.h) under OSMesa (llvmpipe). SPEC §5 (stage level): at least a million random inputs per
+// emulations (gpu/vicp/vicp_vertex.cpp, gpu/vicp/vicp_fragment.cpp), bit for bit, through the VICP stage harness
+// (gpu/vicp/gl_vicp_harness.h) under OSMesa (llvmpipe). SPEC §5 (stage level): at least a million random inputs per
 // stage, with exact ties, zero-length segments, opacities at the kill threshold, flat and sliver cells, faces the ray
 // runs along. The emulation runs with denormals flushed, as llvmpipe runs shaders and as the emulated driver runs.
 #include <cmath>
@@ -9,13 +9,14 @@
 #include <vector>
 
 #include "bit_compare.h"
+#include "case_rng.h"
 #include "gl_harness.h"
 #include "box_mesh.h"
-#include "gpu/denormals.h"
-#include "gpu/gl_vicp_harness.h"
-#include "gpu/rasterize.h"
-#include "gpu/vicp_setup.h"
-#include "havs_scenes.h"
+#include "gpu/pipeline/denormals.h"
+#include "gpu/vicp/gl_vicp_harness.h"
+#include "gpu/pipeline/rasterize.h"
+#include "gpu/vicp/vicp_setup.h"
+#include "mesh_scenes.h"
 
 using namespace uvr;
 using namespace uvr::gpu;
@@ -32,12 +33,8 @@ Gl& gl(GlPlatform p) { return test::gl_harness<GlVicpHarness>(p); }
 // Tetrahedra of every size and place: the exact cell, and its shape as snapping moves it (each point by up to a
 // thousandth of the cell's size, or not at all); slivers (a point near the plane of the others), flat cells (a point
 // repeated: det 0, divisions by zero), scalars with ties and at 0 and 1, every boundary mask.
-struct VertexGen {
-    std::mt19937_64 rng;
-    explicit VertexGen(uint64_t seed) : rng(seed) {}
-    double uni(double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
-    int pick(int n) { return int(rng() % uint64_t(n)); }
-    glm::dvec3 vec(double r) { return {uni(-r, r), uni(-r, r), uni(-r, r)}; }
+struct VertexGen : test::CaseRng {
+    explicit VertexGen(uint64_t seed) : CaseRng(seed) {}
 
     VicpVertexCase make()
     {
@@ -136,26 +133,22 @@ ValueCases frame_value_cases(const Scene& s, const Camera& cam, int size, std::s
 
 // ---- composite cases ----
 
-struct CompositeGen {
-    std::mt19937_64 rng;
-    explicit CompositeGen(uint64_t seed) : rng(seed) {}
-    float uni(float a, float b) { return std::uniform_real_distribution<float>(a, b)(rng); }
-    double unid(double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); }
-    int pick(int n) { return int(rng() % uint64_t(n)); }
+struct CompositeGen : test::CaseRng {
+    explicit CompositeGen(uint64_t seed) : CaseRng(seed) {}
 
     VicpCompositeCase make(float threshold)
     {
         VicpCompositeCase c;
         VicpSegment& s = c.segment;
-        s.s_front = pick(6) == 0 ? double(pick(2)) : unid(0.0, 1.0);
-        s.s_back = pick(6) == 0 ? s.s_front : pick(6) == 0 ? double(pick(2)) : unid(0.0, 1.0);
-        s.t_in = unid(0.5, 20.0);
+        s.s_front = pick(6) == 0 ? double(pick(2)) : uni(0.0, 1.0);
+        s.s_back = pick(6) == 0 ? s.s_front : pick(6) == 0 ? double(pick(2)) : uni(0.0, 1.0);
+        s.t_in = uni(0.5, 20.0);
         switch (pick(8)) {
         case 0: s.length = 0.0; break;                          // a ray that grazes the cell
-        case 1: s.length = -unid(0.0, 1.0); break;              // a ray that misses it (covered by snapping)
-        case 2: s.length = std::ldexp(unid(0.5, 1.0), -160 + pick(40)); break;  // rounds to float 0 or a denormal
-        case 3: s.length = unid(2.0, 5.0); break;               // beyond the table's longest segment
-        default: s.length = unid(0.0, 2.0);
+        case 1: s.length = -uni(0.0, 1.0); break;              // a ray that misses it (covered by snapping)
+        case 2: s.length = std::ldexp(uni(0.5, 1.0), -160 + pick(40)); break;  // rounds to float 0 or a denormal
+        case 3: s.length = uni(2.0, 5.0); break;               // beyond the table's longest segment
+        default: s.length = uni(0.0, 2.0);
         }
         s.t_out = s.t_in + s.length;
         float a;
@@ -164,9 +157,9 @@ struct CompositeGen {
         case 1: a = std::nextafter(threshold, 2.0f); break;
         case 2: a = std::nextafter(threshold, -1.0f); break;
         case 3: a = float(pick(2)); break;
-        default: a = uni(0.0f, 1.0f);
+        default: a = unif(0.0f, 1.0f);
         }
-        c.framebuffer = {uni(0.0f, 1.0f) * a, uni(0.0f, 1.0f) * a, uni(0.0f, 1.0f) * a, a};
+        c.framebuffer = {unif(0.0f, 1.0f) * a, unif(0.0f, 1.0f) * a, unif(0.0f, 1.0f) * a, a};
         // Diagnostics: the farthest segment so far ends where this one does, or begins there (ties), or elsewhere.
         VicpDiagnostics& d = c.diagnostics;
         d.fragments = uint32_t(pick(1000));
@@ -176,10 +169,10 @@ struct CompositeGen {
         case 0: d.last_front = back, d.last_back = back + 1.0f; break;
         case 1: d.last_back = back, d.last_front = front; break;
         case 2: d.last_back = front, d.last_front = front - 1.0f; break;
-        default: d.last_front = uni(0.0f, 20.0f), d.last_back = d.last_front + uni(0.0f, 2.0f);
+        default: d.last_front = unif(0.0f, 20.0f), d.last_back = d.last_front + unif(0.0f, 2.0f);
         }
-        const float ca = pick(10) == 0 ? float(pick(2)) : uni(0.0f, 1.0f);
-        c.shade = {uni(0.0f, 1.0f) * ca, uni(0.0f, 1.0f) * ca, uni(0.0f, 1.0f) * ca, ca};
+        const float ca = pick(10) == 0 ? float(pick(2)) : unif(0.0f, 1.0f);
+        c.shade = {unif(0.0f, 1.0f) * ca, unif(0.0f, 1.0f) * ca, unif(0.0f, 1.0f) * ca, ca};
         return c;
     }
 };

@@ -1,0 +1,175 @@
+// A headless OpenGL 4.5 core-profile context for the GL backend (issue 5), and the few helpers every GL stage
+// needs: a function table, shader programs built from the source files in shaders/, framebuffer checks.
+// Platforms, both without a window: OSMesa (llvmpipe) or EGL (a device with a DRM node first, else Mesa's surfaceless
+// platform); every stage renders into its own float FBOs. Entry points go into GlFunctions, a table of our own (no
+// loader library). Every failure a user can meet is an InputError with the reason; nothing here aborts.
+// Twins: none (the GL context layer); GlProgram builds every GL driver's and harness's program from shaders/.
+// Details: docs/gl-backend.md, "The two platforms".
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <GL/glcorearb.h>
+
+namespace uvr::gpu {
+
+enum class GlPlatform { osmesa, egl };
+const char* gl_platform_name(GlPlatform p);                   // "osmesa", "egl"
+GlPlatform parse_gl_platform(const std::string& name);        // throws InputError for anything else
+
+// The entry points the GL stages use. X(type, name): the member `name` holds "gl" #name.
+#define UVR_GL_FUNCTIONS(X)                                                                                         \
+    X(PFNGLGETSTRINGPROC, GetString)                                                                                \
+    X(PFNGLGETSTRINGIPROC, GetStringi)                                                                              \
+    X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                                            \
+    X(PFNGLGETINTEGER64VPROC, GetInteger64v)                                                                        \
+    X(PFNGLGETERRORPROC, GetError)                                                                                  \
+    X(PFNGLFINISHPROC, Finish)                                                                                      \
+    X(PFNGLENABLEPROC, Enable)                                                                                      \
+    X(PFNGLDISABLEPROC, Disable)                                                                                    \
+    X(PFNGLVIEWPORTPROC, Viewport)                                                                                  \
+    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                                            \
+    X(PFNGLCREATESHADERPROC, CreateShader)                                                                          \
+    X(PFNGLSHADERSOURCEPROC, ShaderSource)                                                                          \
+    X(PFNGLCOMPILESHADERPROC, CompileShader)                                                                        \
+    X(PFNGLGETSHADERIVPROC, GetShaderiv)                                                                            \
+    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                                                                  \
+    X(PFNGLDELETESHADERPROC, DeleteShader)                                                                          \
+    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                                                                        \
+    X(PFNGLATTACHSHADERPROC, AttachShader)                                                                          \
+    X(PFNGLLINKPROGRAMPROC, LinkProgram)                                                                            \
+    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                                                                          \
+    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                                                                \
+    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                                                                        \
+    X(PFNGLUSEPROGRAMPROC, UseProgram)                                                                              \
+    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                                              \
+    X(PFNGLUNIFORM1IPROC, Uniform1i)                                                                                \
+    X(PFNGLUNIFORM1UIPROC, Uniform1ui)                                                                              \
+    X(PFNGLUNIFORM1FPROC, Uniform1f)                                                                                \
+    X(PFNGLUNIFORM1DPROC, Uniform1d)                                                                                \
+    X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                                                                  \
+    X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                                            \
+    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                                                    \
+    X(PFNGLDRAWELEMENTSPROC, DrawElements)                                                                          \
+    X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                                                                    \
+    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                                                    \
+    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                                              \
+    X(PFNGLDRAWARRAYSPROC, DrawArrays)                                                                              \
+    X(PFNGLMULTIDRAWARRAYSPROC, MultiDrawArrays)                                                                    \
+    X(PFNGLGENTEXTURESPROC, GenTextures)                                                                            \
+    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                                                      \
+    X(PFNGLBINDTEXTUREPROC, BindTexture)                                                                            \
+    X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                                                        \
+    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                                                        \
+    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                                                              \
+    X(PFNGLTEXIMAGE3DPROC, TexImage3D)                                                                              \
+    X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                                                                        \
+    X(PFNGLTEXSUBIMAGE3DPROC, TexSubImage3D)                                                                        \
+    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                                                                    \
+    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                                              \
+    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                                                    \
+    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                                                          \
+    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)                                                      \
+    X(PFNGLDRAWBUFFERSPROC, DrawBuffers)                                                                            \
+    X(PFNGLREADBUFFERPROC, ReadBuffer)                                                                              \
+    X(PFNGLREADPIXELSPROC, ReadPixels)                                                                              \
+    X(PFNGLCLEARBUFFERFVPROC, ClearBufferfv)                                                                        \
+    X(PFNGLCLEARBUFFERUIVPROC, ClearBufferuiv)                                                                      \
+    X(PFNGLGENBUFFERSPROC, GenBuffers)                                                                              \
+    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                                                        \
+    X(PFNGLBINDBUFFERPROC, BindBuffer)                                                                              \
+    X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                                                                      \
+    X(PFNGLBUFFERDATAPROC, BufferData)                                                                              \
+    X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)                                                                  \
+    X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                                                        \
+    X(PFNGLUNIFORM3DPROC, Uniform3d)                                                                                \
+    X(PFNGLUNIFORM3FPROC, Uniform3f)                                                                                \
+    X(PFNGLCULLFACEPROC, CullFace)                                                                                  \
+    X(PFNGLFRONTFACEPROC, FrontFace)                                                                                \
+    X(PFNGLPROVOKINGVERTEXPROC, ProvokingVertex)                                                                    \
+    X(PFNGLTEXBUFFERPROC, TexBuffer)
+
+struct GlFunctions {
+#define UVR_GL_MEMBER(type, name) type name = nullptr;
+    UVR_GL_FUNCTIONS(UVR_GL_MEMBER)
+#undef UVR_GL_MEMBER
+};
+
+// What the context reports, for reports and docs (SPEC §5: record the Mesa version a claim was checked on).
+struct GlInfo {
+    GlPlatform platform = GlPlatform::osmesa;
+    std::string detail;    // how it was made: "OSMesa 8.0 core 4.5", "EGL 1.5 device 0 (EGL_MESA_device_software)"
+    // GL_VENDOR, GL_RENDERER, GL_VERSION, GL_SHADING_LANGUAGE_VERSION
+    std::string vendor, renderer, version, glsl_version;
+    std::vector<std::string> extensions;
+    int max_draw_buffers = 0, max_color_attachments = 0;
+    bool has_extension(const std::string& name) const;
+    std::string summary() const;  // "llvmpipe (LLVM 15.0.6, 256 bits), 4.5 (Core Profile) Mesa 22.3.6 [osmesa]"
+};
+
+class GlContext {
+public:
+    // Creates the context and makes it current on the calling thread. Throws InputError when the platform cannot
+    // give a 4.5 core context (no library, no display or device, too old a driver) or an entry point is missing.
+    explicit GlContext(GlPlatform platform);
+    ~GlContext();
+    GlContext(const GlContext&) = delete;
+    GlContext& operator=(const GlContext&) = delete;
+
+    void make_current();  // on the calling thread (one thread uses a context at a time)
+    const GlFunctions& gl() const { return gl_; }
+    const GlInfo& info() const { return info_; }
+
+    // Throws InputError("", "<what>: GL error 0x....") when glGetError reports one.
+    void check_error(const std::string& what) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+    GlFunctions gl_;
+    GlInfo info_;
+};
+
+// ---- Shader programs from shaders/ ----
+
+// Where the .vert / .frag files are: $UVR_SHADER_DIR when set, else the source tree's shaders/ (compile definition).
+std::string shader_dir();
+// The text of shaders/<name>. Throws InputError naming the path when it cannot be read.
+std::string read_shader_file(const std::string& name);
+
+// One stage's source, assembled from a prelude and whole files. The prelude (line 0) is `#version 450 core`, the
+// extensions and `#define NAME VALUE` for each define; each file follows behind `#line 1 <n>` so that the compiler's
+// log names source string n, which the error message maps back to the file.
+struct GlShaderSource {
+    std::vector<std::string> files;                             // names under shader_dir(), in order
+    std::vector<std::pair<std::string, std::string>> defines;    // NAME, VALUE
+    std::vector<std::string> extensions;                         // each becomes `#extension NAME : require`
+};
+
+// A linked program. Throws InputError naming the shader file(s), with the GLSL log, when compiling or linking fails.
+class GlProgram {
+public:
+    GlProgram(const GlContext& ctx, const GlShaderSource& vertex, const GlShaderSource& fragment);
+    ~GlProgram();
+    GlProgram(const GlProgram&) = delete;
+    GlProgram& operator=(const GlProgram&) = delete;
+    GLuint id() const { return id_; }
+    // Uniform location; -1 (ignored by glUniform*) when the compiler removed it. `required` throws instead.
+    GLint uniform(const char* name, bool required = false) const;
+
+private:
+    const GlContext& ctx_;
+    GLuint id_ = 0;
+};
+
+// Compiles a program from explicit source strings (tests of the error path; `name` stands for the file in messages).
+GLuint compile_program_from_strings(const GlContext& ctx, const std::string& name, const std::string& vertex_text,
+                                    const std::string& fragment_text);
+
+// Throws InputError("", "<what>: framebuffer incomplete (GL_FRAMEBUFFER_...)") unless the bound draw framebuffer is
+// complete.
+void check_framebuffer(const GlContext& ctx, const std::string& what);
+
+}  // namespace uvr::gpu

@@ -1,0 +1,39 @@
+// The float framebuffer a GL driver renders a frame into (HAVS: colour, k-buffer targets, diagnostics; VICP: colour,
+// diagnostics): `count` RGBA32F colour attachments, every one drawn into, made for a size and made again when the
+// size changes, and read back exactly (glReadPixels of a float attachment returns the stored bits).
+// Twins: none (GL side only). Used by gpu/havs/gl_havs.cpp, gpu/vicp/gl_vicp.cpp and gpu/raycast/gl_raycast.cpp.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "gpu/gl/gl_context.h"
+
+namespace uvr::gpu {
+
+class GlFloatFramebuffer {
+public:
+    GlFloatFramebuffer(const GlContext& ctx, int count, std::string what) : ctx_(ctx), count_(count), what_(what) {}
+    ~GlFloatFramebuffer() { release(); }
+    GlFloatFramebuffer(const GlFloatFramebuffer&) = delete;
+    GlFloatFramebuffer& operator=(const GlFloatFramebuffer&) = delete;
+
+    // Binds the framebuffer at width x height (making it when the size differs from the last) and sets the viewport.
+    // Throws InputError when it is incomplete.
+    void bind(int width, int height);
+    // The rows of attachment i as GL stores them (row 0 at the bottom).
+    std::vector<glm::vec4> read(int attachment) const;
+
+private:
+    const GlContext& ctx_;
+    int count_;
+    std::string what_;
+    GLuint fbo_ = 0;
+    std::vector<GLuint> textures_;
+    int width_ = 0, height_ = 0;
+    void release();
+};
+
+}  // namespace uvr::gpu

@@ -1,0 +1,243 @@
+#include "gpu/havs/gl_havs.h"
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "gpu/gl/gl_framebuffer.h"
+#include "gpu/gl/gl_preintegration_table.h"
+#include "gpu/havs/gl_havs_fragment.h"
+#include "reference/error.h"
+
+namespace uvr::gpu {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+constexpr const char* kFramebufferFetch = "GL_EXT_shader_framebuffer_fetch";
+
+int entry_targets(int k) { return (k + 1) / 2; }
+
+// The face constants of one draw, at most: 16 MiB (116,508 faces). Each draw's constants and element indices are
+// uploaded just before it, and llvmpipe keeps a draw's buffers until the scene that reads it is rasterized, so
+// what the GL side holds grows with this size: at 10.1 M tetrahedra (20.3 M faces) the whole frame's element buffer
+// (12 bytes a face, twice: the CPU's and Mesa's) and 128 MiB chunks (the block size) peaked at 266 bytes per
+// tetrahedron, 16 MiB chunks with per-chunk indices at 187 (8 MiB: 186). The frame time does not move with it (Blunt
+// Fin, 512 x 512: 0.69-0.73 s with 128, 16 or 8 MiB). docs/results.md, "Memory".
+constexpr std::size_t kFaceBytesPerDraw = std::size_t(16) << 20;
+
+}  // namespace
+
+struct GlHavsRenderer::Objects {
+    const GlFunctions& gl;
+    std::unique_ptr<GlProgram> geometry, flush;
+    GLuint mesh_vao = 0, empty_vao = 0;
+    GLuint vertex_buffer = 0, element_buffer = 0, face_buffer = 0;
+    GLuint table_texture = 0, face_texture = 0;
+    std::unique_ptr<GlFloatFramebuffer> framebuffer;  // colour, k-buffer targets, diagnostics
+
+    explicit Objects(const GlFunctions& g) : gl(g) {}
+    ~Objects()
+    {
+        framebuffer.reset();
+        geometry.reset();
+        flush.reset();
+        const GLuint buffers[] = {vertex_buffer, element_buffer, face_buffer};
+        gl.DeleteBuffers(3, buffers);
+        const GLuint vaos[] = {mesh_vao, empty_vao};
+        gl.DeleteVertexArrays(2, vaos);
+        if (table_texture) gl.DeleteTextures(1, &table_texture);
+        if (face_texture) gl.DeleteTextures(1, &face_texture);
+    }
+};
+
+std::size_t GlHavsRenderer::faces_per_draw() const
+{
+    if (faces_per_draw_) return faces_per_draw_;
+    GLint64 texels = 0;
+    ctx_.gl().GetInteger64v(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
+    const std::size_t bytes = std::min<std::size_t>(16 * std::size_t(std::max<GLint64>(texels, 0)), kFaceBytesPerDraw);
+    return std::max<std::size_t>(1, bytes / sizeof(GlHavsFace));
+}
+
+int GlHavsRenderer::max_k(const GlInfo& info, bool diagnostics)
+{
+    const int targets = std::min(info.max_draw_buffers, info.max_color_attachments) - 1 - (diagnostics ? 1 : 0);
+    return std::max(0, 2 * targets);
+}
+
+namespace {
+const HavsOptions& checked_gl_options(const GlContext& ctx, const HavsOptions& o, bool diagnostics)
+{
+    const GlInfo& info = ctx.info();
+    if (!info.has_extension(kFramebufferFetch))
+        throw InputError("", std::string("the GL context (") + info.summary() + ") lacks " + kFramebufferFetch +
+                                 ", which the GL backend of HAVS needs (docs/gl-backend.md); use --backend emu");
+    if (o.segment == SegmentMode::exact)
+        throw InputError("", "--segment exact runs only in the emulation (--backend emu): on a GPU the fragment "
+                             "program samples the pre-integrated table");
+    const int kmax = GlHavsRenderer::max_k(info, diagnostics);
+    if (o.k < 1 || o.k > kmax)
+        throw InputError("", "--k must be between 1 and " + std::to_string(kmax) + " with --backend gl on " +
+                                 info.renderer + " (" + std::to_string(info.max_draw_buffers) + " draw buffers" +
+                                 (diagnostics ? ", one of them for the diagnostics)" : ")"));
+    return o;
+}
+}  // namespace
+
+GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
+                               const TransferFunction& tf, const HavsOptions& options, bool diagnostics)
+    : ctx_(ctx),
+      mesh_(mesh, topo, field, tf, checked_gl_options(ctx, options, diagnostics)),
+      diagnostics_(diagnostics)
+{
+    ctx_.make_current();
+    const GlFunctions& gl = ctx_.gl();
+    gl_ = std::make_unique<Objects>(gl);
+    const int k = mesh_.options().k;
+
+    std::vector<std::pair<std::string, std::string>> defines = {
+        {"HAVS_K", std::to_string(k)}, {"HAVS_TARGETS", std::to_string(entry_targets(k))}};
+    if (diagnostics_) defines.push_back({"HAVS_DIAGNOSTICS", "1"});
+    const std::vector<std::string> extensions = {kFramebufferFetch};
+    const std::vector<std::string> files = {"preintegration_table.frag", "havs_fragment.frag", "havs.frag"};
+    gl_->geometry = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"clip_position.vert", "havs_vertex.vert"}, {}, {}},
+                                                GlShaderSource{files, defines, extensions});
+    defines.push_back({"HAVS_PASS_FLUSH", "1"});
+    gl_->flush = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"fullscreen.vert"}, {}, {}},
+                                             GlShaderSource{files, defines, extensions});
+
+    // The vertex buffer (the frame's float positions relative to the eye, filled each frame) and the element buffer,
+    // in one vertex array.
+    gl.GenVertexArrays(1, &gl_->mesh_vao);
+    gl.GenVertexArrays(1, &gl_->empty_vao);
+    gl.BindVertexArray(gl_->mesh_vao);
+    gl.GenBuffers(1, &gl_->vertex_buffer);
+    gl.BindBuffer(GL_ARRAY_BUFFER, gl_->vertex_buffer);
+    gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+    gl.EnableVertexAttribArray(0);
+    gl.GenBuffers(1, &gl_->element_buffer);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, gl_->element_buffer);
+    gl.BindVertexArray(0);
+    gl.GenBuffers(1, &gl_->face_buffer);
+    gl.GenTextures(1, &gl_->face_texture);
+
+    upload_preintegration_table(ctx_, *mesh_.table(), mesh_.options().filter, gl_->table_texture);
+    gl_->framebuffer = std::make_unique<GlFloatFramebuffer>(ctx_, 1 + entry_targets(k) + (diagnostics_ ? 1 : 0),
+                                                            "the HAVS framebuffer");
+    ctx_.check_error("setting up HAVS on GL");
+}
+
+GlHavsRenderer::~GlHavsRenderer()
+{
+    ctx_.make_current();
+    gl_.reset();
+}
+
+HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
+{
+    ctx_.make_current();
+    const GlFunctions& gl = ctx_.gl();
+    const int k = mesh_.options().k, targets = entry_targets(k);
+
+    HavsFrame out;
+    HavsStats& st = out.stats;
+    st.table_ms = mesh_.table_ms();
+    st.faces = mesh_.face_count();
+
+    // CPU stage: sort, vertex stage, clip stage; then the frame's vertex buffer.
+    const HavsFrameSetup fs = setup_havs_frame(mesh_, cam, width, height);
+    st.sort_ms = fs.sort_ms;
+    store_clip_stats(fs, st);
+    auto t0 = Clock::now();
+    const std::size_t ntris = fs.draw.size();
+    gl.BindVertexArray(gl_->mesh_vao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, gl_->vertex_buffer);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(fs.points_f.size() * sizeof(glm::vec3)), fs.points_f.data(),
+                  GL_STREAM_DRAW);
+
+    gl_->framebuffer->bind(width, height);
+    gl.Disable(GL_BLEND);
+    gl.Disable(GL_DEPTH_TEST);
+    gl.Disable(GL_CULL_FACE);
+    // Cleared as the emulation starts: colour 0, every entry empty (-1, 0), diagnostics 0.
+    const float zero[4] = {0, 0, 0, 0};
+    const float empty[4] = {kEmptyEntry.x, kEmptyEntry.y, kEmptyEntry.x, kEmptyEntry.y};
+    gl.ClearBufferfv(GL_COLOR, 0, zero);
+    for (int t = 0; t < targets; ++t) gl.ClearBufferfv(GL_COLOR, 1 + t, empty);
+    if (diagnostics_) gl.ClearBufferfv(GL_COLOR, 1 + targets, zero);
+
+    auto use = [&](const GlProgram& p) {
+        gl.UseProgram(p.id());
+        set_havs_frame_uniforms(ctx_, p, fs.constants);
+    };
+    use(*gl_->geometry);
+    gl.UniformMatrix4fv(gl_->geometry->uniform("havs_mvp", true), 1, GL_FALSE, &fs.view.mvp[0][0]);
+    ctx_.check_error("preparing the HAVS geometry pass");
+    st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
+
+    // The geometry pass: the triangles in drawing order, in draws of faces_per_draw() (GL keeps primitive order across
+    // draws, so the pixels see the same sequence as from one draw). Each draw's face constants and vertex indices are
+    // built and uploaded just before it: neither the CPU nor Mesa holds more than a few chunks of them.
+    const std::size_t chunk = faces_per_draw();
+    std::vector<GlHavsFace> records(std::min(chunk, ntris));
+    std::vector<uint32_t> indices(3 * records.size());
+    gl.BindBuffer(GL_TEXTURE_BUFFER, gl_->face_buffer);
+    for (std::size_t c0 = 0; c0 < ntris; c0 += chunk) {
+        const std::size_t n = std::min(chunk, ntris - c0);
+        t0 = Clock::now();
+        tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+            const uint32_t id = fs.draw[c0 + i];
+            records[i] = pack_havs_face(havs_face_constants(mesh_, fs, id));
+            const uint32_t* v = fs.triangle(mesh_, id);
+            for (std::size_t j = 0; j < 3; ++j) indices[3 * i + j] = v[j];
+        });
+        gl.BufferData(GL_TEXTURE_BUFFER, GLsizeiptr(n * sizeof(GlHavsFace)), records.data(), GL_STREAM_DRAW);
+        bind_havs_face_records(ctx_, gl_->face_texture, gl_->face_buffer);
+        gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(3 * n * sizeof(uint32_t)), indices.data(), GL_STREAM_DRAW);
+        st.setup_ms += ms_since(t0);
+        t0 = Clock::now();
+        gl.DrawElements(GL_TRIANGLES, GLsizei(3 * n), GL_UNSIGNED_INT, nullptr);
+        st.raster_fragment_ms += ms_since(t0);
+        ++st.draws;
+    }
+    t0 = Clock::now();
+    gl.Finish();
+    ctx_.check_error("the HAVS geometry pass");
+    st.raster_fragment_ms += ms_since(t0);
+
+    // The flush: one full-screen pass running the program k times on the flush fragment (shaders/havs.frag).
+    t0 = Clock::now();
+    use(*gl_->flush);
+    gl.BindVertexArray(gl_->empty_vao);
+    gl.DrawArrays(GL_TRIANGLES, 0, 3);
+    gl.Finish();
+    ctx_.check_error("the HAVS flush passes");
+    st.flush_ms = ms_since(t0);
+    gl.BindVertexArray(0);
+
+    // Read back (exact for float attachments), flipping GL rows to SPEC rows.
+    t0 = Clock::now();
+    const std::size_t npix = std::size_t(width) * std::size_t(height);
+    const std::vector<glm::vec4> colour = gl_->framebuffer->read(0);
+    std::vector<glm::vec4> diag;
+    if (diagnostics_) diag = gl_->framebuffer->read(1 + targets);
+    st.readback_ms = ms_since(t0);
+
+    // The diagnostics attachment holds havs_diag: counts as exact floats.
+    std::vector<KBufferDiagnostics> counts;
+    if (diagnostics_) {
+        counts.resize(npix);
+        for (std::size_t p = 0; p < npix; ++p)
+            counts[p] = {uint32_t(diag[p].x), uint32_t(diag[p].y), uint32_t(diag[p].z), diag[p].w};
+    }
+    store_havs_frame(colour, diagnostics_ ? &counts : nullptr, width, height, out);
+    return out;
+}
+
+}  // namespace uvr::gpu

@@ -1,0 +1,144 @@
+#include "gpu/havs/havs.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "gpu/pipeline/rasterize.h"
+#include "gpu/pipeline/denormals.h"
+#include "gpu/pipeline/tiles.h"
+#include "reference/error.h"
+
+namespace uvr::gpu {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+
+const HavsOptions& checked_k(const HavsOptions& options)
+{
+    if (options.k < 1 || options.k > kMaxK)
+        throw InputError("", "--k must be between 1 and " + std::to_string(kMaxK));
+    return options;
+}
+
+}  // namespace
+
+void store_havs_frame(const std::vector<glm::vec4>& colour, const std::vector<KBufferDiagnostics>* diag, int width,
+                      int height, HavsFrame& out)
+{
+    const std::size_t npix = std::size_t(width) * std::size_t(height);
+    out.image = Image(width, height);
+    if (diag) {
+        out.fragments.resize(npix);
+        out.max_held.resize(npix);
+        out.ordering_errors.resize(npix);
+    }
+    HavsStats& st = out.stats;
+    for_each_gl_pixel(width, height, [&](std::size_t p, std::size_t q) {
+        std::memcpy(&out.image.rgba[4 * q], &colour[p][0], 4 * sizeof(float));
+        if (!diag) return;
+        const KBufferDiagnostics& d = (*diag)[p];
+        out.fragments[q] = d.fragments;
+        out.max_held[q] = d.max_held;
+        out.ordering_errors[q] = d.ordering_errors;
+        st.fragments += d.fragments;
+        st.ordering_errors += d.ordering_errors;
+        st.max_fragments = std::max(st.max_fragments, d.fragments);
+        st.max_held = std::max(st.max_held, d.max_held);
+    });
+}
+
+void store_clip_stats(const HavsFrameSetup& fs, HavsStats& st)
+{
+    st.clipped_faces = fs.clipped_faces;
+    st.culled_faces = fs.culled_faces;
+    st.near_sections = fs.near_sections;
+    st.gpu_clipped = fs.gpu_clipped;
+    st.triangles = fs.draw.size();
+}
+
+HavsRenderer::HavsRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
+                           const TransferFunction& tf, const HavsOptions& options)
+    : mesh_(mesh, topo, field, tf, checked_k(options))
+{
+}
+
+HavsRenderer::~HavsRenderer() = default;
+
+HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
+{
+    HavsFrame out;
+    HavsStats& st = out.stats;
+    st.table_ms = mesh_.table_ms();
+    st.faces = mesh_.face_count();
+
+    // CPU stage: the sorted faces, the vertex stage, the frame's constants.
+    const HavsFrameSetup fs = setup_havs_frame(mesh_, cam, width, height);
+    const HavsFrameConstants& fc = fs.constants;
+    const std::vector<WindowCoord>& win = fs.win;
+    const Framebuffer fbuf{width, height, RenderTarget::fbo};
+    st.sort_ms = fs.sort_ms;
+    store_clip_stats(fs, st);
+    auto t0 = Clock::now();
+
+    // Bin the triangles, in drawing order, into screen tiles by their window-space bounding boxes.
+    ScreenTiles tiles(width, height);
+    tiles.bin(fs.draw.size(), [&](std::size_t i) { return tiles.range(win, fs.triangle(mesh_, fs.draw[i]), 3); });
+    st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
+
+    // The segment shader: the table as llvmpipe samples it, or the exact integral in double.
+    const SegmentShader shade =
+        segment_shader(mesh_.table(), mesh_.options().filter, mesh_.integrator(), mesh_.range());
+
+    // Per-pixel state, GL rows (from the bottom).
+    const int k = mesh_.options().k;
+    const std::size_t npix = std::size_t(width) * std::size_t(height);
+    std::vector<KEntry> kbuf(npix * std::size_t(k), kEmptyEntry);
+    std::vector<glm::vec4> fb(npix, glm::vec4(0.0f));
+    std::vector<KBufferDiagnostics> diag(npix);
+
+    t0 = Clock::now();
+    tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
+        for (uint32_t i : items) {
+            const uint32_t id = fs.draw[i];
+            const uint32_t* v = fs.triangle(mesh_, id);
+            const WindowCoord wv[3] = {win[v[0]], win[v[1]], win[v[2]]};
+            const TriangleSetup ts = setup_triangle(wv, fbuf);
+            if (ts.empty()) continue;
+            // Flat per-face constants, in double, rounded once (what the CPU uploads). A boundary face is oriented
+            // outward, so it is an exit face when the rasterizer sees it back-facing (clockwise in window coordinates:
+            // gl_FrontFacing false) and an entry face otherwise. The rasterizer's facing comes from the snapped area,
+            // so it agrees with the coverage the fragments come from even for slivers.
+            HavsFace face = havs_face_constants(mesh_, fs, id);
+            if (face.side == kSideExit && ts.facing != Facing::back) face.side = kSideEntry;
+            for_each_fragment_in_tile(ts, tile, [&](int px, int py) {
+                const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
+                const KEntry e = havs_fragment_entry(fc, face, px, py);
+                havs_kbuffer(fc, e, &kbuf[p * std::size_t(k)], k, fb[p], shade, &diag[p]);
+            });
+        }
+    });
+    st.raster_fragment_ms = ms_since(t0);
+
+    // Flush passes: k full-screen passes of the flush fragment composite what is left.
+    t0 = Clock::now();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, npix), [&](const tbb::blocked_range<std::size_t>& range) {
+        const FlushDenormals llvmpipe_mxcsr;
+        for (std::size_t p = range.begin(); p != range.end(); ++p)
+            for (int pass = 0; pass < k; ++pass)
+                havs_kbuffer(fc, kFlushFragment, &kbuf[p * std::size_t(k)], k, fb[p], shade, &diag[p]);
+    });
+    st.flush_ms = ms_since(t0);
+
+    store_havs_frame(fb, &diag, width, height, out);
+    return out;
+}
+
+}  // namespace uvr::gpu

@@ -1,0 +1,150 @@
+#include "gpu/havs/havs_fragment.h"
+
+#include <cmath>
+
+namespace uvr::gpu {
+
+FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace& f, int pix_x, int pix_y)
+{
+    // Edge functions of the triangle at the pixel centre (their sum: the doubled signed area).
+    const double fx = double(pix_x) + 0.5, fy = double(pix_y) + 0.5;
+    const glm::dvec2* v = f.v;
+    double e0 = (v[2].x - v[1].x) * (fy - v[1].y) - (v[2].y - v[1].y) * (fx - v[1].x);
+    double e1 = (v[0].x - v[2].x) * (fy - v[2].y) - (v[0].y - v[2].y) * (fx - v[2].x);
+    double e2 = (v[1].x - v[0].x) * (fy - v[0].y) - (v[1].y - v[0].y) * (fx - v[0].x);
+    const double sum = (e0 + e1) + e2;
+    const double lim = -kOutsideTolerance * sum;
+    const bool inside = sum > 0.0 ? (e0 >= lim && e1 >= lim && e2 >= lim) : (e0 <= lim && e1 <= lim && e2 <= lim);
+    FragmentValues out;
+    out.snapped = !inside;
+    out.outside = sum > 0.0 ? (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) : (e0 > 0.0 || e1 > 0.0 || e2 > 0.0);
+    if (!inside) {
+        // Covered only because of snapping: the snapped triangle's edge functions (fixed value 256 * p is pixel p's
+        // centre), integers held in double and exact (kSnappedEdgeBits).
+        const double cx = double(pix_x) * 256.0, cy = double(pix_y) * 256.0;
+        auto edge = [&](int a, int b) {
+            return (double(f.fx[b]) - double(f.fx[a])) * (cy - double(f.fy[a])) -
+                   (double(f.fy[b]) - double(f.fy[a])) * (cx - double(f.fx[a]));
+        };
+        e0 = edge(1, 2);
+        e1 = edge(2, 0);
+        e2 = edge(0, 1);
+    }
+    // The float constants widen exactly to double (as the shader's double() does).
+    const double w0 = e0 * double(f.inv_w[0]), w1 = e1 * double(f.inv_w[1]), w2 = e2 * double(f.inv_w[2]);
+    const double inv_sum = 1.0 / ((w0 + w1) + w2);
+    const double l0 = w0 * inv_sum, l1 = w1 * inv_sum, l2 = w2 * inv_sum;
+    // The eye-space point, and its distance from the pixel's ray origin o = (ndc_x * ox, ndc_y * oy, 0).
+    const double px = (l0 * double(f.q[0].x) + l1 * double(f.q[1].x)) + l2 * double(f.q[2].x);
+    const double py = (l0 * double(f.q[0].y) + l1 * double(f.q[1].y)) + l2 * double(f.q[2].y);
+    const double pz = (l0 * double(f.q[0].z) + l1 * double(f.q[1].z)) + l2 * double(f.q[2].z);
+    const double ndc_x = fx * fc.two_over_width - 1.0;
+    const double ndc_y = fy * fc.two_over_height - 1.0;
+    const double dx = px - ndc_x * fc.origin_x, dy = py - ndc_y * fc.origin_y;
+    const double distance = std::sqrt((dx * dx + dy * dy) + pz * pz);
+    const double s = (l0 * double(f.s[0]) + l1 * double(f.s[1])) + l2 * double(f.s[2]);
+    const double side = f.side == kSideInterior && out.outside ? kSideOutside : f.side;
+    out.x = side * (1.0 + s);
+    out.distance = distance;
+    return out;
+}
+
+KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& f, int pix_x, int pix_y)
+{
+    // The entry as the k-buffer stores it: float32.
+    const FragmentValues v = havs_fragment_values(fc, f, pix_x, pix_y);
+    return {float(v.x), float(v.distance)};
+}
+
+namespace {
+bool real_entry(const KEntry& e) { return e.y > 0.0f && e.y < __builtin_inff(); }
+// The normalized scalar of an entry (see the entry encoding in havs_fragment.h).
+float decode_scalar(float x)
+{
+    const float m = std::fabs(x);
+    return m < kSideOutside ? m - 1.0f : m < kSideEntry ? m * 0.25f - 1.0f : m * 0.0625f - 1.0f;
+}
+}  // namespace
+
+bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& fb, const SegmentShader& shade,
+                  KBufferDiagnostics* diag)
+{
+    // KIL (threshold - alpha): the seed kills the fragment once the pixel is opaque enough; nothing is written.
+    if (fc.threshold - fb.a < 0.0f) return false;
+    if (diag && real_entry(a0)) ++diag->fragments;
+    // Find the entry with the smallest distance (r0); the others go to r1..rk. The seed's CMP: on t < 0 the running
+    // minimum stays; otherwise (ties included) the stored entry becomes the minimum and the running one moves on, so
+    // on a tie the entry already in the buffer is composited first.
+    // r is scratch for k + 1 entries: plain floats, so that no call pays for initializing kMaxK + 1 of them.
+    float rx[kMaxK + 1], ry[kMaxK + 1];
+    rx[0] = a0.x;
+    ry[0] = a0.y;
+    for (int i = 1; i <= k; ++i) {
+        const float t = ry[0] - a[i - 1].y;
+        if (t < 0.0f) {
+            rx[i] = a[i - 1].x;
+            ry[i] = a[i - 1].y;
+        } else {
+            rx[i] = rx[0];
+            ry[i] = ry[0];
+            rx[0] = a[i - 1].x;
+            ry[0] = a[i - 1].y;
+        }
+    }
+    const auto r = [&](int i) { return KEntry{rx[i], ry[i]}; };
+    // The second smallest (r7 of the seed) among r1..rk, by the same chain; it stays in the buffer.
+    int second_i = 1;
+    for (int i = 2; i <= k; ++i) {
+        const float t = ry[second_i] - ry[i];
+        if (!(t < 0.0f)) second_i = i;
+    }
+    const KEntry second = r(second_i);
+    // The segment from r0 to r7: table coordinates (MAD for t_z, unfused), then the lookup; nullified when r0's
+    // scalar is negative (a gap, an empty or a flush entry) and, with --gaps maxgap, when it is longer than the gap.
+    const KEntry front = r(0);
+    const float length = second.y - front.y;
+    glm::vec4 c(0.0f);
+    // A segment that ends on a flush fragment (distance +inf) never lies inside the mesh: it starts on the last
+    // fragment of the pixel, which is an exit face unless fragments at one distance (a ray exactly through a surface
+    // vertex) were ordered exit-first by rounding. Nor does one that ends on an entry face (exact gaps): the ray is
+    // outside the mesh before it enters. Such a segment's front is an exit face (nullified anyway) or a fragment that
+    // rasterization put in front of the entry face: an interior face sharing an edge with it, covering a pixel just
+    // past that edge through snapping and extrapolated at a grazing angle (0.0027 units in front on an Oxygen Post
+    // pixel, docs/havs.md).
+    const bool nullified = front.x < 0.0f || std::isinf(second.y) || second.x >= kSideEntry ||
+                           (fc.max_gap > 0.0f && length > fc.max_gap);
+    if (!nullified) {
+        const float t_z = length * fc.length_scale + fc.length_bias;
+        c = shade(decode_scalar(front.x), decode_scalar(second.x), t_z, length);
+    }
+    // Exact gaps: behind an exit face the ray is outside the mesh until it meets an entry face. Rasterization can put
+    // a fragment there: a pixel just past the edge where interior faces meet the exit face is covered through
+    // snapping, and their planes, extrapolated at a grazing angle, place the fragment a little behind the exit (2e-5
+    // and 3e-4 units on a torus pixel, docs/havs.md), which would composite a segment outside the mesh. Such a
+    // fragment, extrapolated (kSideOutside) and right behind an exit, is marked an exit in the buffer, so that the
+    // segment starting on it is a gap too. A fragment inside its own triangle is left alone: behind an exit it is a
+    // real one that arrived late (an ordering error), and its segment is real.
+    if (real_entry(front) && front.x < 0.0f && real_entry(second) && second.x >= kSideOutside &&
+        second.x < kSideEntry)
+        rx[second_i] = -rx[second_i];
+    // Ordering: in front-to-back order each segment starts where the previous one ended. A front nearer than the
+    // previous segment's back means a fragment arrived after the segment across it was composited.
+    if (diag && real_entry(front)) {
+        if (front.y < diag->last_back) ++diag->ordering_errors;
+        if (real_entry(second)) diag->last_back = std::fmax(diag->last_back, second.y);
+    }
+    // Front to back: fb = c * (1 - fb.a) + fb, per channel (MAD, unfused).
+    const float one_minus_a = 1.0f - fb.a;
+    fb = glm::vec4(c.r * one_minus_a + fb.r, c.g * one_minus_a + fb.g, c.b * one_minus_a + fb.b,
+                   c.a * one_minus_a + fb.a);
+    // Write back r1..rk.
+    uint32_t held = 0;
+    for (int i = 1; i <= k; ++i) {
+        a[i - 1] = r(i);
+        held += real_entry(a[i - 1]) ? 1u : 0u;
+    }
+    if (diag && held > diag->max_held) diag->max_held = held;
+    return true;
+}
+
+}  // namespace uvr::gpu

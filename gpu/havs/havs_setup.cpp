@@ -1,0 +1,222 @@
+#include "gpu/havs/havs_setup.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
+
+#include "gpu/pipeline/clip_position.h"
+#include "gpu/pipeline/clip.h"
+#include "gpu/pipeline/face_sort.h"
+#include "reference/error.h"
+
+namespace uvr::gpu {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+}  // namespace
+
+HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
+                   const HavsOptions& options)
+    : mesh_(mesh), options_(options), integrator_(tf), range_(field_range(mesh.fields.at(field)))
+{
+    const double span = range_.hi > range_.lo ? range_.hi - range_.lo : 1.0;
+    for (double s : mesh.fields[field].values) scalar_n_.push_back((s - range_.lo) / span);
+    // Welded points (a coincident twin exists): a boundary face made only of them lies on a seam inside the mesh (the
+    // O-grid seam of docs/data-model.md), not on the mesh's surface, so it is never a gap's start.
+    std::vector<uint8_t> welded(mesh.points.size(), 0);
+    for (std::size_t i = 0; i < mesh.points.size(); ++i)
+        if (topo.canonical[i] != i) welded[i] = welded[topo.canonical[i]] = 1;
+    faces_.reserve(topo.faces.size() * 3);
+    boundary_.reserve(topo.faces.size());
+    for (const Face& f : topo.faces) {
+        faces_.insert(faces_.end(), f.v.begin(), f.v.end());
+        const bool seam = welded[f.v[0]] && welded[f.v[1]] && welded[f.v[2]];
+        boundary_.push_back(options_.gaps == GapMode::exact && f.boundary() && !seam ? 1 : 0);
+    }
+    longest_edge_ = longest_tet_edge(mesh);
+    if (!(options_.table_max_length > 0.0)) options_.table_max_length = longest_edge_;
+    if (options_.segment == SegmentMode::table)
+        table_ = build_segment_table(integrator_, range_, options_.table_size, options_.table_format,
+                                     options_.table_max_length, table_ms_);
+}
+
+namespace {
+
+// The clip stage's frame vertices (ClipVertexBuffer, with HAVS's own per-vertex data) and triangles.
+class FrameVertices {
+public:
+    // points_outside: per mesh point, whether the GPU's frustum test would clip it.
+    FrameVertices(HavsFrameSetup& fs, const std::vector<uint8_t>& points_outside)
+        : fs_(fs), frame_(camera_frame(fs.camera)),
+          buffer_(fs.view, fs.width, fs.height, fs.points_f, fs.win, points_outside)
+    {
+    }
+
+    // Draws triangle `id` (vertices v), counting it in gpu_clipped when the GPU would clip one of its vertices.
+    void draw(uint32_t id, const uint32_t* v)
+    {
+        fs_.draw.push_back(id);
+        if (buffer_.gpu_clips(v[0], v[1], v[2])) ++fs_.gpu_clipped;
+    }
+
+    // The clipped polygon as a fan of extra triangles lying on `face`, drawn next.
+    void draw_fan(const std::vector<ClipVertex>& poly, uint32_t face)
+    {
+        if (poly.size() < 3) return;
+        buffer_.add(poly, ids_, [&](const ClipVertex& v) {
+            glm::dvec3 wd;
+            window_position_d(fs_.view, v.p, fs_.width, fs_.height, wd.x, wd.y, wd.z);
+            fs_.win_d.push_back(wd);
+            fs_.eye.push_back(eye_space(frame_, v.p));
+            fs_.extra_s.push_back(v.s);
+        });
+        for (std::size_t i = 1; i + 1 < ids_.size(); ++i) {
+            const uint32_t v[3] = {ids_[0], ids_[i], ids_[i + 1]};
+            const uint32_t id = fs_.mesh_faces + uint32_t(fs_.extra_face.size());
+            fs_.extra.insert(fs_.extra.end(), v, v + 3);
+            fs_.extra_face.push_back(face);
+            draw(id, v);
+        }
+    }
+
+private:
+    HavsFrameSetup& fs_;
+    CameraFrame frame_;
+    ClipVertexBuffer buffer_;
+    std::vector<uint32_t> ids_;
+};
+
+}  // namespace
+
+HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width, int height)
+{
+    HavsFrameSetup fs;
+    fs.camera = cam;
+    fs.width = width;
+    fs.height = height;
+    const TetMesh& mesh = hm.mesh();
+    const std::size_t npts = mesh.points.size();
+    fs.mesh_faces = uint32_t(hm.face_count());
+
+    // The frame's vertex buffer: positions relative to the eye, in float. Relative to the eye, a clip coordinate's
+    // float rounding is a fixed fraction of its w, however near the eye the point lies or far the mesh from the
+    // world's origin (coordinates at 1e8 with features at 1e-3 keep their features), as the clip stage needs.
+    auto t0 = Clock::now();
+    fs.points_f.resize(npts);
+    tbb::parallel_for(std::size_t(0), npts, [&](std::size_t i) { fs.points_f[i] = glm::vec3(mesh.points[i] - cam.eye); });
+
+    // Sort the faces front to back by squared centroid distance.
+    std::vector<float> keys;
+    std::vector<uint32_t> order, scratch;
+    face_sort_keys(fs.points_f, hm.faces(), glm::vec3(0.0f), keys);
+    radix_sort_faces(keys, order, scratch);
+    fs.sort_ms = ms_since(t0);
+
+    // The vertex stage for every point, and which planes of the clip stage each point lies outside of.
+    t0 = Clock::now();
+    fs.view = view_setup(cam, width, height, mesh_bounds(mesh), cam.eye);
+    const ClipPlanes planes = inner_clip_planes(width, height);
+    const CameraFrame frame = camera_frame(cam);
+    const Framebuffer fbuf{width, height, RenderTarget::fbo};
+    fs.win.resize(npts);
+    fs.win_d.resize(npts);
+    fs.eye.resize(npts);
+    std::vector<uint8_t> codes(npts), gpu_outside(npts);
+    tbb::parallel_for(std::size_t(0), npts, [&](std::size_t i) {
+        const auto clip = clip_position(fs.view.mvp, fs.points_f[i]);
+        fs.win[i] = viewport_transform(clip.data(), fbuf);
+        const glm::dvec3 d = mesh.points[i] - cam.eye;
+        window_position_d(fs.view, d, width, height, fs.win_d[i].x, fs.win_d[i].y, fs.win_d[i].z);
+        fs.eye[i] = eye_space(frame, d);
+        codes[i] = uint8_t(outcode(planes, clip_vertex(fs.view, d, 0.0).c));
+        gpu_outside[i] = outside_gpu_frustum(clip) ? 1 : 0;
+    });
+    fs.vertex_ms = ms_since(t0);
+
+    // The clip stage. First the near plane's sections of the cells it cuts (the nearest surfaces, in cell order), then
+    // the faces in sorted order: inside every plane as they are, wholly outside one plane not at all, the others as
+    // the fans of their clipped polygons.
+    t0 = Clock::now();
+    FrameVertices frame_vertices(fs, gpu_outside);
+    auto clip_vertex_of = [&](uint32_t i) {
+        ClipVertex v = clip_vertex(fs.view, mesh.points[i] - cam.eye, hm.scalar_n(i));
+        v.id = i;
+        return v;
+    };
+    std::vector<ClipVertex> poly, poly_scratch;
+    constexpr unsigned kNearBit = 1u << kClipNear;
+    if (fs.view.near_cuts) {
+        for (const Tet& t : mesh.tets) {
+            const unsigned any = codes[t[0]] | codes[t[1]] | codes[t[2]] | codes[t[3]];
+            const unsigned all = codes[t[0]] & codes[t[1]] & codes[t[2]] & codes[t[3]];
+            if (!(any & kNearBit) || (all & kNearBit) || (all & ~kNearBit)) continue;
+            const ClipVertex v[4] = {clip_vertex_of(t[0]), clip_vertex_of(t[1]), clip_vertex_of(t[2]),
+                                     clip_vertex_of(t[3])};
+            near_section(fs.view, planes, v, poly);
+            clip_polygon(fs.view, planes, poly, poly_scratch, kClipLeft);
+            if (poly.size() >= 3) ++fs.near_sections;
+            frame_vertices.draw_fan(poly, kNearSection);
+        }
+    }
+    fs.draw.reserve(fs.draw.size() + order.size());
+    const std::vector<uint32_t>& faces = hm.faces();
+    for (uint32_t f : order) {
+        const uint32_t* v = &faces[3 * std::size_t(f)];
+        const unsigned any = codes[v[0]] | codes[v[1]] | codes[v[2]];
+        const unsigned all = codes[v[0]] & codes[v[1]] & codes[v[2]];
+        if (any == 0) {
+            frame_vertices.draw(f, v);
+        } else if (all != 0) {
+            ++fs.culled_faces;
+        } else {
+            ++fs.clipped_faces;
+            poly.assign({clip_vertex_of(v[0]), clip_vertex_of(v[1]), clip_vertex_of(v[2])});
+            clip_polygon(fs.view, planes, poly, poly_scratch);
+            frame_vertices.draw_fan(poly, f);
+        }
+    }
+    fs.clip_ms = ms_since(t0);
+
+    HavsFrameConstants& fc = fs.constants;
+    fc.two_over_width = 2.0 / double(width);
+    fc.two_over_height = 2.0 / double(height);
+    const double aspect = double(width) / double(height);
+    if (cam.orthographic) {
+        fc.origin_x = 0.5 * cam.ortho_height * aspect;
+        fc.origin_y = 0.5 * cam.ortho_height;
+    }
+    fc.threshold = hm.options().threshold;
+    if (const PreintegrationTable* table = hm.table()) {
+        fc.length_scale = table->length_scale();
+        fc.length_bias = table->length_bias();
+    }
+    // Both gap modes nullify a segment longer than the mesh's longest edge: consecutive fragments inside the mesh lie
+    // in one tetrahedron, so such a segment can only span a gap. With --gaps maxgap that is the whole rule (VTK's
+    // heuristic); with exact gaps it is a safety net under the exit-face marking, for a fragment that rounding placed
+    // just behind the exit face it belongs before (a ray grazing a silhouette edge).
+    fc.max_gap = float(hm.longest_edge());
+    return fs;
+}
+
+HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id)
+{
+    const uint32_t* v = fs.triangle(hm, id);
+    const std::size_t npts = hm.mesh().points.size();
+    HavsFace face;
+    for (int j = 0; j < 3; ++j) {
+        face.q[j] = glm::vec3(fs.eye[v[j]]);  // rounded to float once (HavsFace)
+        face.v[j] = glm::dvec2(fs.win_d[v[j]].x, fs.win_d[v[j]].y);
+        face.fx[j] = snap_to_fixed(fs.win[v[j]].x);
+        face.fy[j] = snap_to_fixed(fs.win[v[j]].y);
+        face.inv_w[j] = float(fs.win_d[v[j]].z);
+        face.s[j] = float(v[j] < npts ? hm.scalar_n(v[j]) : fs.extra_s[v[j] - npts]);
+    }
+    const uint32_t source = id < fs.mesh_faces ? id : fs.extra_face[id - fs.mesh_faces];
+    face.side = source != kNearSection && hm.exit_capable(source) ? kSideExit : kSideInterior;
+    return face;
+}
+
+}  // namespace uvr::gpu

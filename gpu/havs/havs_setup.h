@@ -1,0 +1,117 @@
+// HAVS's CPU stage, shared by the emulated driver (gpu/havs/havs.cpp) and the GL driver (gpu/havs/gl_havs.cpp), so
+// that both draw the same triangles in the same order with the same constants: per mesh (HavsMesh) the normalized
+// scalars, the unique faces, their boundary marks, the longest edge and the table; per frame (setup_havs_frame) the
+// vertex buffer, the sort, the vertex and clip stages and HavsFrameConstants; per triangle drawn
+// (havs_face_constants) its flat HavsFace.
+// Twins: none (CPU stage); on GL its outputs feed shaders/havs_vertex.vert and shaders/havs_fragment.frag.
+// Details: docs/havs.md, "The CPU stage".
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "gpu/havs/havs_fragment.h"
+#include "gpu/pipeline/view_setup.h"
+#include "gpu/pipeline/preintegration_table.h"
+#include "gpu/pipeline/segment.h"
+#include "gpu/pipeline/rasterize.h"
+#include "reference/camera.h"
+#include "reference/mesh.h"
+#include "reference/segment_integral.h"
+#include "reference/topology.h"
+
+namespace uvr::gpu {
+
+enum class GapMode { exact, maxgap };     // --gaps: exit faces marked (exact), or VTK's maximum-gap heuristic
+
+struct HavsOptions {
+    int k = 6;
+    SegmentMode segment = SegmentMode::table;
+    GapMode gaps = GapMode::exact;
+    float threshold = 0.99f;  // the opacity kill; 1 switches early termination off
+    int table_size = 128;     // texels along each of the table's three axes
+    TexelFormat table_format = TexelFormat::f32;
+    double table_max_length = 0.0;  // 0: the mesh's longest edge (no segment inside one cell is longer)
+    TextureFilter filter = TextureFilter::linear;
+};
+
+
+// What the CPU stage keeps of the mesh between frames.
+class HavsMesh {
+public:
+    // Throws InputError when an option is out of range (k is checked by each driver against its own limit).
+    HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
+             const HavsOptions& options);
+
+    const TetMesh& mesh() const { return mesh_; }
+    const HavsOptions& options() const { return options_; }  // table_max_length filled in
+    const SegmentIntegrator& integrator() const { return integrator_; }
+    const Range& range() const { return range_; }
+    double longest_edge() const { return longest_edge_; }
+    const std::vector<uint32_t>& faces() const { return faces_; }  // 3 point indices per unique face
+    std::size_t face_count() const { return faces_.size() / 3; }
+    const PreintegrationTable* table() const { return table_.get(); }  // null with --segment exact
+    double table_ms() const { return table_ms_; }
+
+    // The normalized scalar of point i and whether face f can be an exit face (exact gaps only).
+    double scalar_n(std::size_t i) const { return scalar_n_[i]; }
+    bool exit_capable(std::size_t f) const { return boundary_[f] != 0; }
+
+private:
+    const TetMesh& mesh_;
+    HavsOptions options_;
+    SegmentIntegrator integrator_;
+    Range range_;
+    double longest_edge_ = 0.0;
+    std::vector<double> scalar_n_;
+    std::vector<uint32_t> faces_;
+    std::vector<uint8_t> boundary_;
+    std::unique_ptr<PreintegrationTable> table_;
+    double table_ms_ = 0.0;
+};
+
+// What a frame draws, as ids: below the mesh's face count a mesh face drawn as it is; from there on an extra
+// triangle of the frame (a piece of a clipped face, or of a near-plane section).
+inline constexpr uint32_t kNearSection = 0xFFFFFFFFu;  // extra_face of a near-plane section's triangle
+
+// One frame's CPU work.
+struct HavsFrameSetup {
+    Camera camera;
+    int width = 0, height = 0;
+    ViewSetup view;                    // positions relative to the eye (view_setup's origin), near plane clipped
+    std::vector<uint32_t> draw;        // what is drawn, front to back (see above)
+    // Frame vertices: the mesh's points, then the vertices the clip stage made.
+    std::vector<glm::vec3> points_f;   // the vertex buffer: float positions relative to the eye
+    std::vector<WindowCoord> win;      // what the rasterizer receives (float pipeline, FBO setup space)
+    std::vector<glm::dvec3> win_d;     // x, y, 1 / w in double (the fragment stage's geometry)
+    std::vector<glm::dvec3> eye;       // eye-space position in double (eye_space)
+    std::vector<double> extra_s;       // normalized scalars of the clip stage's vertices
+    std::vector<uint32_t> extra;       // 3 frame vertices per extra triangle
+    std::vector<uint32_t> extra_face;  // per extra triangle: the mesh face it lies on, or kNearSection
+    uint32_t mesh_faces = 0;           // the mesh's face count: the first extra triangle's id
+    HavsFrameConstants constants;
+    uint64_t clipped_faces = 0;        // faces that crossed a plane and were drawn as clipped fans
+    uint64_t culled_faces = 0;         // faces wholly outside one plane, not drawn
+    uint64_t near_sections = 0;        // cells cut by the near plane, drawn through their sections
+    uint64_t gpu_clipped = 0;          // drawn triangles with a vertex the GPU's frustum test would clip (expected 0)
+    double sort_ms = 0.0, vertex_ms = 0.0, clip_ms = 0.0;
+
+    // The three frame vertices of draw id `id`.
+    const uint32_t* triangle(const HavsMesh& hm, uint32_t id) const
+    {
+        return id < mesh_faces ? &hm.faces()[3 * std::size_t(id)] : &extra[3 * std::size_t(id - mesh_faces)];
+    }
+};
+
+// Sorts the faces, runs the vertex stage and the clip stage.
+HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& camera, int width, int height);
+
+// The flat constants of draw id `id`. `side` is kSideExit when it lies on a boundary face (exact gaps): each driver
+// keeps it where the rasterizer sees the triangle back-facing and makes it kSideEntry otherwise (the emulation from its
+// setup's facing, the shader from gl_FrontFacing). A near-plane section is interior.
+HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id);
+
+}  // namespace uvr::gpu

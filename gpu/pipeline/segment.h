@@ -1,0 +1,36 @@
+// What one ray segment between two fragments contributes, shared by the projection algorithms (HAVS, VICP) and the
+// ray caster's pre-integrated mode: the pre-integrated table as llvmpipe samples it, or the exact integral (emulation
+// only). Inputs: the two normalized scalars, the table's length coordinate and the length. Output: premultiplied RGBA.
+// Twins: shaders/preintegration_table.frag (the lookup), gpu/gl/gl_preintegration_table.h (its upload).
+// Derivation of the table and its coordinates: docs/tables.md.
+#pragma once
+
+#include <functional>
+#include <memory>
+
+#include <glm/vec4.hpp>
+
+#include "gpu/pipeline/preintegration_table.h"
+#include "reference/mesh.h"
+#include "reference/segment_integral.h"
+
+namespace uvr::gpu {
+
+enum class SegmentMode { table, exact };  // --segment: the pre-integrated table, or the exact integral (emulation only)
+
+// What the table lookup (or, in emulation, the exact integral) returns for the segment from entry `front` to entry
+// `back`: u_front = |front.x| - 1, u_back = |back.x| - 1, t_z = (back.y - front.y) * length_scale + length_bias.
+using SegmentShader = std::function<glm::vec4(float u_front, float u_back, float t_z, float length)>;
+
+// the longest edge of the mesh's non-degenerate tetrahedra (no segment inside one cell is longer: the table's range);
+double longest_tet_edge(const TetMesh& mesh);
+// the pre-integrated table of `integrator` over `range` with `size` texels per axis up to `max_length`, and the
+// milliseconds it took;
+std::unique_ptr<PreintegrationTable> build_segment_table(const SegmentIntegrator& integrator, const Range& range,
+                                                         int size, TexelFormat format, double max_length, double& ms);
+// what a segment contributes: the table as llvmpipe samples it, or, without a table (--segment exact), the exact
+// integral in double of the segment between the normalized scalars.
+SegmentShader segment_shader(const PreintegrationTable* table, TextureFilter filter,
+                             const SegmentIntegrator& integrator, const Range& range);
+
+}  // namespace uvr::gpu

@@ -1,0 +1,69 @@
+#include "gpu/raycast/raycast.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+
+#include <tbb/parallel_for.h>
+
+#include "gpu/pipeline/denormals.h"
+#include "gpu/pipeline/rasterize.h"
+
+namespace uvr::gpu {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+}  // namespace
+
+void store_raycast_frame(const std::vector<glm::vec4>& colour, const std::vector<uint32_t>& samples, int width,
+                         int height, RaycastFrame& out)
+{
+    out.image = Image(width, height);
+    out.samples.resize(std::size_t(width) * std::size_t(height));
+    RaycastStats& st = out.stats;
+    for_each_gl_pixel(width, height, [&](std::size_t p, std::size_t q) {
+        std::memcpy(&out.image.rgba[4 * q], &colour[p][0], 4 * sizeof(float));
+        out.samples[q] = samples[p];
+        st.samples += samples[p];
+        st.rays += samples[p] ? 1 : 0;
+        st.max_samples = std::max(st.max_samples, samples[p]);
+    });
+}
+
+RaycastRenderer::RaycastRenderer(const Volume& volume, const TransferFunction& tf, const RaycastOptions& options)
+    : volume_(volume, tf, options)
+{
+}
+
+RaycastFrame RaycastRenderer::render(const Camera& cam, int width, int height) const
+{
+    RaycastFrame out;
+    auto t0 = Clock::now();
+    const RaycastFrameConstants fc = raycast_frame_constants(volume_, cam, width, height);
+    const RaycastTextures tex = raycast_textures(volume_);
+    const double setup_ms = ms_since(t0);
+
+    // The full-screen pass: every pixel runs the fragment program once (GL rows, from the bottom).
+    const std::size_t npix = std::size_t(width) * std::size_t(height);
+    std::vector<glm::vec4> colour(npix, glm::vec4(0.0f));
+    std::vector<uint32_t> samples(npix, 0);
+    t0 = Clock::now();
+    tbb::parallel_for(0, height, [&](int py) {
+        const FlushDenormals llvmpipe_mxcsr;  // as llvmpipe's shader threads (gpu/pipeline/denormals.h)
+        for (int px = 0; px < width; ++px) {
+            const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
+            const RaycastResult r = raycast_march(fc, raycast_ray(fc, px, py), tex);
+            colour[p] = r.colour;
+            samples[p] = r.samples;
+        }
+    });
+    const double march_ms = ms_since(t0);
+    store_raycast_frame(colour, samples, width, height, out);
+    out.stats.table_ms = volume_.table_ms();
+    out.stats.setup_ms = setup_ms;
+    out.stats.march_ms = march_ms;
+    return out;
+}
+
+}  // namespace uvr::gpu

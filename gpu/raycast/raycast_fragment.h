@@ -1,0 +1,99 @@
+// The ray caster's fragment program (seed 002), emulated operation by operation: the pixel's ray in double from
+// gl_FragCoord, clipped against the samples' box (raycast_ray_exact, raycast_ray); the march in float through the
+// volume texture, post-classified or pre-integrated (raycast_march); optional Blinn-Phong shading (raycast_gradient,
+// raycast_light_factors). Input: RaycastFrameConstants, the pixel, RaycastTextures. Output: RaycastResult (the
+// colour and the number of samples).
+// Twins: shaders/raycast_fragment.frag; GL uniforms gpu/raycast/gl_raycast.h (set_raycast_frame_uniforms); harness
+// gpu/raycast/gl_raycast_harness.h.
+// Derivation: docs/raycast.md gives the decisions, and the arithmetic under "The arithmetic".
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "gpu/raycast/classification_table.h"
+#include "gpu/pipeline/segment.h"
+#include "gpu/pipeline/pixel_rays.h"
+#include "gpu/pipeline/texture_sampling.h"
+
+namespace uvr::gpu {
+
+// Per-frame constants (uniforms): the pixels' rays (gpu/pipeline/pixel_rays.h) relative to the box's centre, and the rest.
+struct RaycastFrameConstants : PixelRays {
+    glm::dvec3 box_lo{0.0}, box_hi{0.0};  // the samples' box, relative to its centre
+    glm::dvec3 tex_scale{0.0};            // 1 / (dims * spacing): world units to texture coordinates
+    glm::dvec3 tex_half{0.0};             // 0.5 / dims: texel 0's centre
+    double step = 1.0;                    // world units
+    int max_samples = 0;                  // no ray takes more (setup: the box's diagonal over the step, plus 2)
+    int preintegrate = 0;
+    float threshold = 0.95f;              // early termination (SPEC §3)
+    float scalar_scale = 1.0f, scalar_bias = 0.0f;    // texture value -> normalized scalar
+    float step_f = 1.0f;                              // float(step): a full segment's length (pre-integration)
+    float length_scale = 0.0f, length_bias = 0.0f;    // the pre-integrated table's sz.z and sz.w
+    // Shading (shade != 0).
+    int shade = 0;
+    glm::dvec3 light{0.0};                // the light's position, relative to the box's centre
+    double ambient = 0.0, diffuse = 0.0, specular = 0.0;
+    int shininess = 0;
+    glm::vec3 texel{0.0f};                // 1 / dims: one texel in texture coordinates
+    glm::vec3 gradient_scale{0.0f};       // 1 / (2 spacing)
+};
+
+// What the double part hands the march (a function of the pixel and the frame only).
+struct RaycastRay {
+    int samples = 0;                // n; 0 when the ray misses the box
+    glm::vec3 tex0{0.0f};           // the entry, texture coordinates
+    glm::vec3 dtex{0.0f};           // one step, texture coordinates
+    glm::vec3 tex_exit{0.0f};       // the exit (pre-integration's last sample)
+    float last_length = 0.0f;       // pre-integration: the last segment's length, in (0, step]
+    double length = 0.0;            // L, world units
+    glm::dvec3 entry{0.0}, dir{0.0};  // world entry point (centred frame) and unit direction: shading's positions
+};
+
+// The double part's results before their rounding to float: what the stage harness compares (gpu/raycast/gl_raycast_harness.h),
+// so that a change in the double arithmetic shows even where it vanishes in the float it is rounded to.
+struct RaycastRayExact {
+    int samples = 0;
+    glm::dvec3 tex0{0.0}, dtex{0.0}, tex_exit{0.0};
+    double last_length = 0.0;
+    double length = 0.0;
+    glm::dvec3 entry{0.0}, dir{0.0};
+};
+
+RaycastRayExact raycast_ray_exact(const RaycastFrameConstants& fc, int px, int py);
+RaycastRay rounded_ray(const RaycastRayExact& e);  // each float member rounded from its double once
+inline RaycastRay raycast_ray(const RaycastFrameConstants& fc, int px, int py)
+{
+    return rounded_ray(raycast_ray_exact(fc, px, py));
+}
+
+// The textures the march reads, as the emulation holds them.
+struct RaycastTextures {
+    TextureView volume;                         // one channel, R8 / R16 / R32F
+    const ClassificationTable* classification = nullptr;
+    SegmentShader segment;                      // pre-integration (table as llvmpipe samples it, or exact)
+    LlvmpipeCpu cpu;
+};
+
+struct RaycastResult {
+    glm::vec4 colour{0.0f};
+    uint32_t samples = 0;  // texture positions classified (pre-integration counts the exit too)
+};
+
+RaycastResult raycast_march(const RaycastFrameConstants& fc, const RaycastRay& ray, const RaycastTextures& tex);
+
+// The shading factors (m, p) at texture position p of sample distance t (world units past the entry) with the float
+// gradient g (exposed for the stage tests), and the shaded colour.
+// raycast_light_factors is the double part (compared by the stage harness); raycast_light rounds it to float.
+glm::dvec2 raycast_light_factors(const RaycastFrameConstants& fc, const RaycastRay& ray, double t, const glm::vec3& g);
+inline glm::vec2 raycast_light(const RaycastFrameConstants& fc, const RaycastRay& ray, double t, const glm::vec3& g)
+{
+    const glm::dvec2 f = raycast_light_factors(fc, ray, t, g);
+    return {float(f.x), float(f.y)};
+}
+glm::vec3 raycast_gradient(const RaycastFrameConstants& fc, const RaycastTextures& tex, const glm::vec3& p);
+
+}  // namespace uvr::gpu

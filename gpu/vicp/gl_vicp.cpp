@@ -1,0 +1,239 @@
+#include "gpu/vicp/gl_vicp.h"
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "gpu/gl/gl_framebuffer.h"
+#include "gpu/gl/gl_preintegration_table.h"
+#include "gpu/vicp/gl_vicp_fragment.h"
+#include "reference/error.h"
+
+namespace uvr::gpu {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+constexpr const char* kFramebufferFetch = "GL_EXT_shader_framebuffer_fetch";
+
+// The storage buffers of shaders/vicp.vert, by binding.
+enum Binding : GLuint { kStream = 0, kPointsF = 1, kPointsD = 2, kScalars = 3, kSnapped = 4, kFans = 5, kBindings = 6 };
+
+static_assert(sizeof(VicpCell) == 5 * sizeof(uint32_t), "shaders/vicp.vert reads a VicpCell as five uints");
+
+GLint64 max_block_bytes(const GlContext& ctx)
+{
+    GLint64 block = 0;
+    ctx.gl().GetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+    return block;
+}
+
+const VicpOptions& checked_gl_options(const GlContext& ctx, const TetMesh& mesh, const VicpOptions& o)
+{
+    const GlInfo& info = ctx.info();
+    if (!info.has_extension(kFramebufferFetch))
+        throw InputError("", std::string("the GL context (") + info.summary() + ") lacks " + kFramebufferFetch +
+                                 ", which the GL backend of VICP needs (docs/vicp.md); use --backend emu");
+    GLint blocks = 0;
+    ctx.gl().GetIntegerv(GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS, &blocks);
+    if (blocks < GLint(kBindings))
+        throw InputError("", "the GL context (" + info.summary() + ") has " + std::to_string(blocks) +
+                                 " storage buffers in the vertex stage; the GL backend of VICP needs " +
+                                 std::to_string(int(kBindings)) + "; use --backend emu");
+    if (o.segment == SegmentMode::exact)
+        throw InputError("", "--segment exact runs only in the emulation (--backend emu): on a GPU the fragment "
+                             "program samples the pre-integrated table");
+    // The per-point arrays are read at any index by every draw: each must fit one storage block.
+    const double point_bytes = 3.0 * sizeof(double) * double(mesh.points.size());
+    if (point_bytes > double(max_block_bytes(ctx)))
+        throw InputError("", "the mesh's " + std::to_string(mesh.points.size()) +
+                                 " points exceed what the GL backend of VICP holds on " + info.renderer + " (" +
+                                 std::to_string(max_block_bytes(ctx) / 24) +
+                                 " points: one storage block of doubles); use --backend emu");
+    return o;
+}
+
+}  // namespace
+
+struct GlVicpRenderer::Objects {
+    const GlFunctions& gl;
+    std::unique_ptr<GlProgram> program;
+    GLuint vao = 0;
+    GLuint buffers[kBindings] = {};
+    GLuint table_texture = 0;
+    std::unique_ptr<GlFloatFramebuffer> framebuffer;  // colour, diagnostics
+
+    explicit Objects(const GlFunctions& g) : gl(g) {}
+    ~Objects()
+    {
+        framebuffer.reset();
+        program.reset();
+        gl.DeleteBuffers(kBindings, buffers);
+        if (vao) gl.DeleteVertexArrays(1, &vao);
+        if (table_texture) gl.DeleteTextures(1, &table_texture);
+    }
+    void upload(Binding b, const void* data, std::size_t bytes, GLenum usage)
+    {
+        gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, buffers[b]);
+        gl.BufferData(GL_SHADER_STORAGE_BUFFER, GLsizeiptr(bytes), data, usage);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, b, buffers[b]);
+    }
+};
+
+std::size_t GlVicpRenderer::cells_per_draw() const
+{
+    if (cells_per_draw_) return cells_per_draw_;
+    return std::max<std::size_t>(1, std::size_t(max_block_bytes(ctx_)) / sizeof(VicpCell));
+}
+
+GlVicpRenderer::GlVicpRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
+                               const TransferFunction& tf, const VicpOptions& options)
+    : ctx_(ctx), mesh_(mesh, topo, field, tf, checked_gl_options(ctx, mesh, options))
+{
+    ctx_.make_current();
+    const GlFunctions& gl = ctx_.gl();
+    gl_ = std::make_unique<Objects>(gl);
+    gl_->program = std::make_unique<GlProgram>(
+        ctx_, GlShaderSource{{"clip_position.vert", "vicp_tet.glsl", "vicp_vertex.vert", "vicp.vert"}, {}, {}},
+        GlShaderSource{{"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp.frag"},
+                       {},
+                       {kFramebufferFetch}});
+    gl.GenVertexArrays(1, &gl_->vao);
+    gl.GenBuffers(kBindings, gl_->buffers);
+    // The resident per-point arrays, three values (or one) a point, packed as the shader reads them.
+    const auto& pd = mesh_.points_d();
+    const auto& sn = mesh_.scalars_n();
+    gl_->upload(kPointsD, pd.data(), pd.size() * sizeof(glm::dvec3), GL_STATIC_DRAW);
+    gl_->upload(kScalars, sn.data(), sn.size() * sizeof(double), GL_STATIC_DRAW);
+    upload_preintegration_table(ctx_, *mesh_.table(), mesh_.options().filter, gl_->table_texture);
+    gl_->framebuffer = std::make_unique<GlFloatFramebuffer>(ctx_, 2, "the VICP framebuffer");
+    ctx_.check_error("setting up VICP on GL");
+}
+
+GlVicpRenderer::~GlVicpRenderer()
+{
+    ctx_.make_current();
+    gl_.reset();
+}
+
+VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
+{
+    static_assert(sizeof(glm::vec3) == 3 * sizeof(float) && sizeof(glm::dvec3) == 3 * sizeof(double),
+                  "points are uploaded as packed triples");
+    ctx_.make_current();
+    const GlFunctions& gl = ctx_.gl();
+    VicpFrame out;
+    VicpStats& st = out.stats;
+    st.table_ms = mesh_.table_ms();
+    st.cells = mesh_.mesh().tets.size();
+
+    const VicpFrameSetup fs = setup_vicp_frame(mesh_, cam, width, height);
+    const std::vector<VicpCell>& stream = fs.stream;
+    st.drawn_cells = stream.size();
+    st.order = fs.order_stats;
+    st.sort_ms = fs.sort_ms;
+    st.project_ms = fs.project_ms;
+
+    store_clip_stats(fs, st);
+
+    auto t0 = Clock::now();
+    // The frame's vertex buffer (with the clip stage's vertices) is read at any index by every draw.
+    if (double(fs.points_f.size()) * sizeof(glm::vec3) > double(max_block_bytes(ctx_)))
+        throw InputError(mesh_.mesh().source, "the frame's " + std::to_string(fs.points_f.size()) +
+                                                  " vertices exceed one storage block on " + ctx_.info().renderer +
+                                                  "; use --backend emu");
+    gl_->upload(kPointsF, fs.points_f.data(), fs.points_f.size() * sizeof(glm::vec3), GL_STREAM_DRAW);
+    gl_->upload(kSnapped, fs.snapped.data(), fs.snapped.size() * sizeof(glm::dvec3), GL_STREAM_DRAW);
+    gl_->framebuffer->bind(width, height);
+    gl.Disable(GL_BLEND);
+    gl.Disable(GL_DEPTH_TEST);
+    // Only the faces the eye sees from outside a cell make fragments (the emulation's Facing::front): not by
+    // glCullFace, whose draw-module stage culls slivers on a float determinant that can disagree with the fixed-point
+    // area llvmpipe's setup goes by (docs/rasterizer.md, "Not emulated" 2), but by the fragment program, which
+    // discards the fragments of back faces on gl_FrontFacing, the setup's own facing (shaders/vicp.frag).
+    gl.Disable(GL_CULL_FACE);
+    gl.FrontFace(GL_CCW);
+    gl.ProvokingVertex(GL_LAST_VERTEX_CONVENTION);  // the vertex that computes the flat constants (vicp.vert)
+    const float zero[4] = {0, 0, 0, 0};
+    gl.ClearBufferfv(GL_COLOR, 0, zero);
+    gl.ClearBufferfv(GL_COLOR, 1, zero);
+    gl.UseProgram(gl_->program->id());
+    set_vicp_frame_uniforms(ctx_, *gl_->program, fs.constants);
+    gl.UniformMatrix4fv(gl_->program->uniform("vicp_mvp", true), 1, GL_FALSE, &fs.view.mvp[0][0]);
+    const GLint whole_vertices = gl_->program->uniform("vicp_whole_vertices", true);
+    const GLint slot_base = gl_->program->uniform("vicp_slot_base", true);
+    gl.BindVertexArray(gl_->vao);
+    ctx_.check_error("preparing the VICP draw");
+    st.setup_ms = fs.vertex_ms + ms_since(t0);
+
+    // The stream in order, as few chunks as the storage block size allows (GL keeps primitive order across draws),
+    // each one multi-draw: runs of whole cells, and the cut cells' fans in their places.
+    const std::size_t chunk = cells_per_draw();
+    std::size_t cut = 0;  // the first cut cell not drawn yet
+    std::vector<GLint> firsts;
+    std::vector<GLsizei> sizes;
+    for (std::size_t c0 = 0; c0 < stream.size(); c0 += chunk) {
+        const std::size_t n = std::min(chunk, stream.size() - c0);
+        t0 = Clock::now();
+        gl_->upload(kStream, stream.data() + c0, n * sizeof(VicpCell), GL_STREAM_DRAW);
+        // The chunk's cut cells and their fans; the fans' vertex IDs start after the whole cells'.
+        const std::size_t cut_end = std::lower_bound(fs.cuts.begin() + std::ptrdiff_t(cut), fs.cuts.end(), c0 + n,
+                                                     [](const VicpCut& c, std::size_t s) { return c.slot < s; }) -
+                                    fs.cuts.begin();
+        const std::size_t fan0 = cut < cut_end ? fs.cuts[cut].first : 0;
+        const std::size_t fan1 = cut < cut_end ? fs.cuts[cut_end - 1].first + fs.cuts[cut_end - 1].count : 0;
+        const uint32_t empty[4] = {0, 0, 0, 0};  // a buffer is never empty
+        if (fan1 > fan0)
+            gl_->upload(kFans, fs.fans.data() + 4 * fan0, (fan1 - fan0) * 4 * sizeof(uint32_t), GL_STREAM_DRAW);
+        else
+            gl_->upload(kFans, empty, sizeof empty, GL_STREAM_DRAW);
+        const GLint fan_base = GLint(kVicpVerticesPerTet * n);
+        firsts.clear();
+        sizes.clear();
+        std::size_t run = c0;  // the first whole cell not drawn yet
+        for (; cut < cut_end; ++cut) {
+            const VicpCut& c = fs.cuts[cut];
+            if (c.slot > run) {
+                firsts.push_back(GLint(kVicpVerticesPerTet * (run - c0)));
+                sizes.push_back(GLsizei(kVicpVerticesPerTet * (c.slot - run)));
+            }
+            if (c.count) {
+                firsts.push_back(fan_base + GLint(3 * (c.first - fan0)));
+                sizes.push_back(GLsizei(3 * c.count));
+            }
+            run = c.slot + 1;
+        }
+        if (c0 + n > run) {
+            firsts.push_back(GLint(kVicpVerticesPerTet * (run - c0)));
+            sizes.push_back(GLsizei(kVicpVerticesPerTet * (c0 + n - run)));
+        }
+        gl.Uniform1i(whole_vertices, fan_base);
+        gl.Uniform1ui(slot_base, GLuint(c0));
+        st.setup_ms += ms_since(t0);
+        t0 = Clock::now();
+        if (!firsts.empty()) gl.MultiDrawArrays(GL_TRIANGLES, firsts.data(), sizes.data(), GLsizei(firsts.size()));
+        st.raster_fragment_ms += ms_since(t0);
+        ++st.draws;
+    }
+    t0 = Clock::now();
+    gl.Finish();
+    ctx_.check_error("the VICP draw");
+    st.raster_fragment_ms += ms_since(t0);
+    gl.BindVertexArray(0);
+
+    t0 = Clock::now();
+    const std::size_t npix = std::size_t(width) * std::size_t(height);
+    const std::vector<glm::vec4> colour = gl_->framebuffer->read(0), diag = gl_->framebuffer->read(1);
+    st.readback_ms = ms_since(t0);
+
+    std::vector<VicpDiagnostics> counts(npix);
+    for (std::size_t p = 0; p < npix; ++p)
+        counts[p] = {uint32_t(diag[p].x), uint32_t(diag[p].y), diag[p].z, diag[p].w};
+    store_vicp_frame(colour, counts, width, height, out);
+    return out;
+}
+
+}  // namespace uvr::gpu

@@ -1,0 +1,50 @@
+// VICP on a real GL context (issue 6): the GL twin of the emulated driver gpu/vicp/vicp.cpp. The CPU stage is the same
+// code (vicp_setup: the cell order, ProjectTet's stream, the snapped points, the frame's constants); the GPU runs
+// shaders/vicp.vert (the vertex program: each cell's constants, flat) on 12 vertices a cell, rasterizes (no culling),
+// and runs shaders/vicp.frag (the fragment program: the segment, compositing front to back through
+// GL_EXT_shader_framebuffer_fetch, on front faces only: gl_FrontFacing) on every fragment. docs/vicp.md.
+// Twins: emulated driver gpu/vicp/vicp.h; shaders/clip_position.vert, vicp_tet.glsl, vicp_vertex.vert, vicp.vert,
+// preintegration_table.frag, vicp_fragment.frag, vicp.frag; GL uniforms gpu/vicp/gl_vicp_fragment.h; harness
+// gpu/vicp/gl_vicp_harness.h.
+// What is resident and what goes per frame: docs/vicp.md, "What is resident and what is sent per frame".
+#pragma once
+
+#include <memory>
+
+#include "gpu/gl/gl_context.h"
+#include "gpu/vicp/vicp.h"
+
+namespace uvr::gpu {
+
+class GlVicpRenderer {
+public:
+    // Builds the CPU stage and the GL objects on `ctx` (current on this thread). Throws InputError when the context
+    // lacks what VICP needs (GL_EXT_shader_framebuffer_fetch, storage buffers in the vertex stage), when the mesh's
+    // points exceed one storage block, or with --segment exact (a GPU samples the table).
+    GlVicpRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
+                   const TransferFunction& tf, const VicpOptions& options);
+    ~GlVicpRenderer();
+    GlVicpRenderer(const GlVicpRenderer&) = delete;
+    GlVicpRenderer& operator=(const GlVicpRenderer&) = delete;
+
+    // Renders one frame and reads it back (float32 RGBA, SPEC §2 rows, with the per-pixel diagnostics). Stats:
+    // sort_ms and project_ms are CPU time, setup_ms the vertex positions, snapping and uploads,
+    // raster_fragment_ms the draws up to glFinish, readback_ms the glReadPixels.
+    VicpFrame render(const Camera& camera, int width, int height);
+
+    // Cells drawn per draw call: as many as GL_MAX_SHADER_STORAGE_BLOCK_SIZE bytes of the stream hold, or `n` when
+    // set (tests; 0 goes back to the limit).
+    std::size_t cells_per_draw() const;
+    void set_cells_per_draw(std::size_t n) { cells_per_draw_ = n; }
+
+    const VicpMesh& cpu_stage() const { return mesh_; }
+
+private:
+    struct Objects;
+    GlContext& ctx_;
+    VicpMesh mesh_;
+    std::size_t cells_per_draw_ = 0;
+    std::unique_ptr<Objects> gl_;
+};
+
+}  // namespace uvr::gpu

@@ -1,0 +1,138 @@
+#include "gpu/vicp/vicp.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "gpu/pipeline/rasterize.h"
+#include "gpu/pipeline/tiles.h"
+
+namespace uvr::gpu {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+}  // namespace
+
+void store_vicp_frame(const std::vector<glm::vec4>& colour, const std::vector<VicpDiagnostics>& diag, int width,
+                      int height, VicpFrame& out)
+{
+    const std::size_t npix = std::size_t(width) * std::size_t(height);
+    out.image = Image(width, height);
+    out.fragments.resize(npix);
+    out.ordering_errors.resize(npix);
+    VicpStats& st = out.stats;
+    for_each_gl_pixel(width, height, [&](std::size_t p, std::size_t q) {
+        std::memcpy(&out.image.rgba[4 * q], &colour[p][0], 4 * sizeof(float));
+        const VicpDiagnostics& d = diag[p];
+        out.fragments[q] = d.fragments;
+        out.ordering_errors[q] = d.ordering_errors;
+        st.fragments += d.fragments;
+        st.ordering_errors += d.ordering_errors;
+        st.max_fragments = std::max(st.max_fragments, d.fragments);
+    });
+}
+
+void store_clip_stats(const VicpFrameSetup& fs, VicpStats& st)
+{
+    st.clipped_cells = fs.clipped_cells;
+    st.culled_cells = fs.culled_cells;
+    st.near_sections = fs.near_sections;
+    st.fan_triangles = fs.fan_triangles();
+    st.gpu_clipped = fs.gpu_clipped;
+}
+
+VicpRenderer::VicpRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
+                           const TransferFunction& tf, const VicpOptions& options)
+    : mesh_(mesh, topo, field, tf, options)
+{
+}
+
+VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
+{
+    VicpFrame out;
+    VicpStats& st = out.stats;
+    st.table_ms = mesh_.table_ms();
+    st.cells = mesh_.mesh().tets.size();
+
+    const VicpFrameSetup fs = setup_vicp_frame(mesh_, cam, width, height);
+    const VicpFrameConstants& fc = fs.constants;
+    const std::vector<WindowCoord>& win = fs.win;
+    const std::vector<VicpCell>& stream = fs.stream;
+    st.drawn_cells = stream.size();
+    st.order = fs.order_stats;
+    st.sort_ms = fs.sort_ms;
+    st.project_ms = fs.project_ms;
+    store_clip_stats(fs, st);
+    const Framebuffer fbuf{width, height, RenderTarget::fbo};
+
+    // Bin the stream's cells into screen tiles by the bounding boxes of the points they are drawn with: their four
+    // points, or their fans' vertices for the cells the view cuts.
+    auto t0 = Clock::now();
+    constexpr uint32_t kWholeCell = UINT32_MAX;
+    std::vector<uint32_t> cut_of_slot;  // per slot, when the view cuts cells: its index in fs.cuts, or kWholeCell
+    if (!fs.cuts.empty()) {
+        cut_of_slot.assign(stream.size(), kWholeCell);
+        for (uint32_t i = 0; i < fs.cuts.size(); ++i) cut_of_slot[fs.cuts[i].slot] = i;
+    }
+    const auto cut_index = [&](uint32_t slot) { return cut_of_slot.empty() ? kWholeCell : cut_of_slot[slot]; };
+    ScreenTiles tiles(width, height);
+    tiles.bin(stream.size(), [&](std::size_t slot) {
+        const uint32_t c = cut_index(uint32_t(slot));
+        if (c == kWholeCell) return tiles.range(win, stream[slot].v.data(), 4);
+        ScreenTiles::Range r;  // the hull of the fan triangles' boxes: the box of all their vertices
+        for (uint32_t k = fs.cuts[c].first; k < fs.cuts[c].first + fs.cuts[c].count; ++k)
+            r = r.hull(tiles.range(win, &fs.fans[4 * std::size_t(k)], 3));
+        return r;
+    });
+    st.setup_ms = fs.vertex_ms + ms_since(t0);
+
+    const SegmentShader shade =
+        segment_shader(mesh_.table(), mesh_.options().filter, mesh_.integrator(), mesh_.range());
+    const std::size_t npix = std::size_t(width) * std::size_t(height);
+    std::vector<glm::vec4> fb(npix, glm::vec4(0.0f));
+    std::vector<VicpDiagnostics> diag(npix);
+
+    t0 = Clock::now();
+    tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
+        for (uint32_t slot : items) {
+            bool have_constants = false;
+            VicpTet tet;
+            // One triangle of the cell, rasterized, its fragments through the fragment program when it is front-facing
+            // by llvmpipe's fixed-point area (only the faces the eye sees from outside the cell make fragments; GL
+            // discards the others on gl_FrontFacing, shaders/vicp.frag).
+            const auto draw = [&](const uint32_t v0, const uint32_t v1, const uint32_t v2) {
+                const WindowCoord wv[3] = {win[v0], win[v1], win[v2]};
+                const TriangleSetup ts = setup_triangle(wv, fbuf);
+                if (ts.empty() || ts.facing != Facing::front) return;
+                for_each_fragment_in_tile(ts, tile, [&](int px, int py) {
+                    if (!have_constants) {
+                        tet = mesh_.constants(stream[slot], fs.snapped);  // the vertex program's flat outputs
+                        have_constants = true;
+                    }
+                    const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
+                    const VicpSegment seg = vicp_fragment_values(fc, tet, px, py);
+                    vicp_composite(fc, seg, fb[p], shade, &diag[p]);
+                });
+            };
+            const uint32_t c = cut_index(slot);
+            if (c == kWholeCell) {
+                const Tet& t = stream[slot].v;
+                for (int f = 0; f < 4; ++f) draw(t[kVicpCorner[f][0]], t[kVicpCorner[f][1]], t[kVicpCorner[f][2]]);
+            } else {
+                for (uint32_t k = fs.cuts[c].first; k < fs.cuts[c].first + fs.cuts[c].count; ++k) {
+                    const uint32_t* tri = &fs.fans[4 * std::size_t(k)];
+                    draw(tri[0], tri[1], tri[2]);
+                }
+            }
+        }
+    });
+    st.raster_fragment_ms = ms_since(t0);
+
+    store_vicp_frame(fb, diag, width, height, out);
+    return out;
+}
+
+}  // namespace uvr::gpu

@@ -1,0 +1,54 @@
+// View-Independent Cell Projection (Weiler, Kraus, Ertl 2003; seed 003) emulated on the CPU as a GPU runs it: the
+// cells ordered on the CPU (vicp_order), ProjectTet's stream (vicp_setup) with the cells the view cuts clipped
+// (vicp_clip), each cell's four faces through the vertex stage (vicp_vertex), rasterized with llvmpipe's rules and
+// back faces culled (rasterize), each fragment through the fragment program (vicp_fragment). docs/vicp.md.
+// Twins: shaders/vicp.vert and shaders/vicp.frag (the draw's mains); GL driver gpu/vicp/gl_vicp.h; GL uniforms
+// gpu/vicp/gl_vicp_fragment.h; harness gpu/vicp/gl_vicp_harness.h.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "gpu/vicp/vicp_setup.h"
+#include "reference/image.h"
+
+namespace uvr::gpu {
+
+struct VicpStats {
+    uint64_t cells = 0, drawn_cells = 0;
+    uint64_t fragments = 0, ordering_errors = 0;
+    uint32_t max_fragments = 0;  // most fragments on one pixel
+    CellOrderStats order;
+    double table_ms = 0, sort_ms = 0, project_ms = 0, setup_ms = 0, raster_fragment_ms = 0, readback_ms = 0;
+    uint32_t draws = 0;  // the GL backend's draw calls
+    // The clip stage (gpu/vicp/vicp_clip.h): cells drawn through it, cells outside the view, near-plane sections, fan
+    // triangles, and triangles with a vertex the GPU's frustum test would clip (0 unless its margins failed).
+    uint64_t clipped_cells = 0, culled_cells = 0, near_sections = 0, fan_triangles = 0, gpu_clipped = 0;
+};
+
+struct VicpFrame {
+    Image image;
+    // Per pixel, SPEC §2 order (row 0 at the top): fragments, ordering errors.
+    std::vector<uint32_t> fragments, ordering_errors;
+    VicpStats stats;
+};
+
+// The end of a frame, for both backends: colour and diagnostics (GL rows, from the bottom) into `out` (SPEC rows).
+void store_vicp_frame(const std::vector<glm::vec4>& colour, const std::vector<VicpDiagnostics>& diagnostics, int width,
+                      int height, VicpFrame& out);
+
+// The clip stage's counts of `fs` into `st`, for both backends.
+void store_clip_stats(const VicpFrameSetup& fs, VicpStats& st);
+
+class VicpRenderer {
+public:
+    VicpRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
+                 const VicpOptions& options);
+    VicpFrame render(const Camera& camera, int width, int height) const;
+    const VicpMesh& cpu_stage() const { return mesh_; }
+
+private:
+    VicpMesh mesh_;
+};
+
+}  // namespace uvr::gpu

@@ -1,0 +1,58 @@
+// VICP's fragment stage (seed 003, VICP-FragmentProg), emulated operation by operation: vicp_fragment_values (the
+// frame's constants, the tetrahedron's flat VicpTet, the pixel -> the segment of the pixel's ray in the cell, in
+// double) and vicp_composite (the segment, the framebuffer colour, a SegmentShader -> the colour composited front to
+// back in float, or a kill).
+// Twins: shaders/vicp_fragment.frag; GL uniforms gpu/vicp/gl_vicp_fragment.h; harness gpu/vicp/gl_vicp_harness.h.
+// Derivation: docs/vicp.md, "The fragment values" (the exit by direction), "Snapping" (the constants come from the
+// points where the rasterizer snapped them) and "The float part".
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "gpu/pipeline/segment.h"
+#include "gpu/pipeline/pixel_rays.h"
+#include "gpu/vicp/vicp_vertex.h"
+
+namespace uvr::gpu {
+
+// Per-frame constants (uniforms): the pixels' rays (gpu/pipeline/pixel_rays.h) relative to the mesh's centre, and the rest.
+struct VicpFrameConstants : PixelRays {
+    float threshold = 1.0f;                   // the opacity kill; 1 (the default for VICP) never kills
+    float length_scale = 0.0f, length_bias = 0.0f;  // the seed's sz.z and sz.w (pre-integrated table)
+};
+
+// The segment a fragment integrates, in double before rounding. Distances are world units from the ray's origin.
+struct VicpSegment {
+    double s_front = 0.0, s_back = 0.0;  // normalized scalars at entry and exit, clamped to [0, 1]
+    double t_in = 0.0, t_out = 0.0;      // distances of entry and exit
+    double length = 0.0;                 // t_out - t_in (negative or 0: the ray misses the tetrahedron)
+};
+// A face counts as parallel to the ray when |b_i| <= kParallelFace * sum_j |b_j|. A ray lying in a face's plane (a
+// pixel centre on a face seen edge-on, as on an unjittered grid seen along its axes) has b_i = 0 up to the rounding
+// of a three-term dot product, ~1e-16 relative; a face at a real angle to the ray has |b_i| of the order of the
+// others' (it is |m_i| |d| sin(angle), and |m_i| is the face's area over the cell's volume). 1e-12 lies far from
+// both: a ray within 1e-12 radians of a face's plane stays within 1e-12 of the mesh's size from it.
+inline constexpr double kParallelFace = 1e-12;
+
+VicpSegment vicp_fragment_values(const VicpFrameConstants& fc, const VicpTet& tet, int px, int py);
+
+
+// Per-pixel diagnostics: fragments that reached the program, and ordering errors: a segment that ends where the
+// segment reaching farthest so far begins, or nearer (in visibility order each segment starts where the one before
+// ended; a cell drawn out of order lies wholly in front of one drawn before it). Comparing with that segment's front,
+// not its back, keeps the rounding of two cells' distances to their shared face from counting.
+struct VicpDiagnostics {
+    uint32_t fragments = 0;
+    uint32_t ordering_errors = 0;
+    float last_back = 0.0f, last_front = 0.0f;  // the farthest-reaching segment composited so far (bookkeeping)
+};
+
+// One run of the fragment program's float part on one pixel (`shade` as HAVS's: havs_fragment.h). Returns false when the fragment is killed (the
+// framebuffer's alpha is above the threshold): nothing is written.
+bool vicp_composite(const VicpFrameConstants& fc, const VicpSegment& segment, glm::vec4& framebuffer,
+                    const SegmentShader& shade, VicpDiagnostics* diag);
+
+}  // namespace uvr::gpu

@@ -1,0 +1,233 @@
+#include "gpu/vicp/vicp_setup.h"
+
+#include <chrono>
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "gpu/pipeline/clip_position.h"
+#include "gpu/pipeline/pixel_rays.h"
+#include "reference/error.h"
+
+namespace uvr::gpu {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+}  // namespace
+
+VicpMesh::VicpMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
+                   const VicpOptions& options)
+    : mesh_(mesh), topo_(topo), options_(options), integrator_(tf), range_(field_range(mesh.fields.at(field)))
+{
+    if (options_.table_size < 2 || options_.table_size > 1024)
+        throw InputError("", "--table-size must be between 2 and 1024");
+    if (!(options_.threshold >= 0.0f && options_.threshold <= 1.0f))
+        throw InputError("", "--threshold must be in [0, 1]");
+    origin_ = mesh_bounds(mesh).center();
+    points_d_.reserve(mesh.points.size());
+    for (const auto& p : mesh.points) points_d_.push_back(p - origin_);
+    const double span = range_.hi > range_.lo ? range_.hi - range_.lo : 1.0;
+    scalar_n_.reserve(mesh.points.size());
+    for (double s : mesh.fields[field].values) scalar_n_.push_back((s - range_.lo) / span);
+    // Orientation by the vertex program's own determinant, so that the sign it sees is the one the CPU checked.
+    orientation_.resize(mesh.tets.size());
+    tbb::parallel_for(std::size_t(0), mesh.tets.size(), [&](std::size_t i) {
+        const Tet& t = mesh.tets[i];
+        const glm::dvec3 p[4] = {points_d_[t[0]], points_d_[t[1]], points_d_[t[2]], points_d_[t[3]]};
+        const double s[4] = {0, 0, 0, 0};
+        const double det = vicp_tet_constants(p, p, s, 0).det;
+        orientation_[i] = det > 0.0 ? 1 : det < 0.0 ? 2 : 0;
+    });
+    for (uint8_t o : orientation_) drawn_ += o ? 1 : 0;
+    boundary_.resize(mesh.tets.size());
+    for (std::size_t i = 0; i < mesh.tets.size(); ++i) {
+        uint8_t bits = 0;
+        for (int f = 0; f < 4; ++f) {
+            const int32_t fi = topo.tet_faces[i][std::size_t(f)];
+            if (fi >= 0 && topo.faces[std::size_t(fi)].boundary()) bits |= uint8_t(1u << f);
+        }
+        boundary_[i] = bits;
+    }
+    if (!(options_.table_max_length > 0.0)) options_.table_max_length = longest_tet_edge(mesh);
+    if (options_.segment == SegmentMode::table)
+        table_ = build_segment_table(integrator_, range_, options_.table_size, options_.table_format,
+                                     options_.table_max_length, table_ms_);
+}
+
+bool VicpMesh::oriented(uint32_t t, VicpCell& out) const
+{
+    const Tet& c = mesh_.tets[t];
+    const uint32_t b = boundary_[t];
+    switch (orientation_[t]) {
+    case 1: out = {c, b}; return true;
+    case 2:  // swapping two points negates the determinant exactly; their faces' bits swap with them
+        out = {{c[0], c[1], c[3], c[2]}, (b & 3u) | ((b & 4u) << 1) | ((b & 8u) >> 1)};
+        return true;
+    default: return false;
+    }
+}
+
+VicpTet VicpMesh::constants(const VicpCell& cell, const std::vector<glm::dvec3>& snapped) const
+{
+    const Tet& t = cell.v;
+    const glm::dvec3 shape[4] = {snapped[t[0]], snapped[t[1]], snapped[t[2]], snapped[t[3]]};
+    const glm::dvec3 exact[4] = {points_d_[t[0]], points_d_[t[1]], points_d_[t[2]], points_d_[t[3]]};
+    const double s[4] = {scalar_n_[t[0]], scalar_n_[t[1]], scalar_n_[t[2]], scalar_n_[t[3]]};
+    return vicp_tet_constants(shape, exact, s, cell.boundary);
+}
+
+double vicp_resident_bytes_per_cell(const VicpMesh& vm)
+{
+    const double per_point = 3 * sizeof(double) + sizeof(double);
+    return per_point * double(vm.points_d().size()) / double(vm.mesh().tets.size());
+}
+
+double vicp_sent_bytes_per_cell(const VicpMesh& vm)
+{
+    const double per_point = 3.0 * sizeof(double) + sizeof(glm::vec3);
+    return (double(sizeof(VicpCell)) * double(vm.drawn_cells()) + per_point * double(vm.points_d().size())) /
+           double(vm.mesh().tets.size());
+}
+
+namespace {
+
+// The clip stage's additions to the frame: new vertices in the vertex buffer (ClipVertexBuffer), fan triangles of cut
+// cells.
+class FrameFans {
+public:
+    FrameFans(VicpFrameSetup& fs, const std::vector<uint8_t>& points_outside)
+        : fs_(fs), buffer_(fs.view, fs.width, fs.height, fs.points_f, fs.win, points_outside)
+    {
+    }
+
+    // The polygon `poly` as a fan of triangles of the cell at `slot`, drawn next.
+    void add(const std::vector<ClipVertex>& poly, uint32_t slot)
+    {
+        if (poly.size() < 3) return;
+        buffer_.add(poly, ids_, [](const ClipVertex&) {});
+        for (std::size_t i = 1; i + 1 < ids_.size(); ++i) {
+            const uint32_t v[4] = {ids_[0], ids_[i], ids_[i + 1], slot};
+            fs_.fans.insert(fs_.fans.end(), v, v + 4);
+            if (buffer_.gpu_clips(v[0], v[1], v[2])) ++fs_.gpu_clipped;
+        }
+    }
+
+    const ClipVertexBuffer& buffer() const { return buffer_; }
+
+private:
+    VicpFrameSetup& fs_;
+    ClipVertexBuffer buffer_;
+    std::vector<uint32_t> ids_;
+};
+
+}  // namespace
+
+VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& cam, int width, int height)
+{
+    VicpFrameSetup fs;
+    fs.camera = cam;
+    fs.width = width;
+    fs.height = height;
+    const auto& mesh = vm.mesh();
+    const std::size_t npts = mesh.points.size();
+
+    // The pixels' rays in the mesh's centred frame.
+    auto t0 = Clock::now();
+    VicpFrameConstants& fc = fs.constants;
+    const CameraFrame cf = camera_frame(cam);
+    static_cast<PixelRays&>(fc) = pixel_rays(cam, width, height, vm.origin());
+    fc.threshold = vm.options().threshold;
+    if (const PreintegrationTable* table = vm.table()) {
+        fc.length_scale = table->length_scale();
+        fc.length_bias = table->length_bias();
+    }
+    // The vertex stage's positions (as HAVS's: the frame's vertex buffer relative to the eye, float clip coordinates,
+    // llvmpipe's viewport transform). Snapping: each point at its own depth along the view direction, moved to the
+    // ray through its snapped window position (fixed value 256 * p is pixel p's centre, rasterize.h). Then which of
+    // the clip stage's planes each point, so moved, lies outside of.
+    fs.view = view_setup(cam, width, height, mesh_bounds(mesh), cam.eye);
+    const Framebuffer fbuf{width, height, RenderTarget::fbo};
+    fs.points_f.resize(npts);
+    fs.win.resize(npts);
+    fs.snapped.resize(npts);
+    std::vector<glm::dvec3> moved(npts);  // relative to the eye
+    std::vector<uint8_t> codes(npts), gpu_outside(npts);
+    const VicpClipper clipper(fs.view, width, height, moved, codes);  // reads moved and codes, filled below
+    tbb::parallel_for(std::size_t(0), npts, [&](std::size_t i) {
+        fs.points_f[i] = glm::vec3(mesh.points[i] - cam.eye);
+        const auto clip = clip_position(fs.view.mvp, fs.points_f[i]);
+        fs.win[i] = viewport_transform(clip.data(), fbuf);
+        gpu_outside[i] = outside_gpu_frustum(clip) ? 1 : 0;
+        if (gpu_outside[i]) {
+            fs.snapped[i] = vm.points_d()[i];
+        } else {
+            const double ndc_x = (double(snap_to_fixed(fs.win[i].x)) / 256.0 + 0.5) * fc.two_over_width - 1.0;
+            const double ndc_y = (double(snap_to_fixed(fs.win[i].y)) / 256.0 + 0.5) * fc.two_over_height - 1.0;
+            const glm::dvec3 q = vm.points_d()[i] - fc.eye;
+            const double depth = (q.x * cf.f.x + q.y * cf.f.y) + q.z * cf.f.z;
+            const glm::dvec3 o = fc.eye + ndc_x * fc.ray_ox + ndc_y * fc.ray_oy;
+            const glm::dvec3 d = fc.ray_d0 + ndc_x * fc.ray_dx + ndc_y * fc.ray_dy;
+            fs.snapped[i] = o + depth * d;
+        }
+        moved[i] = fs.snapped[i] - fc.eye;
+        codes[i] = uint8_t(outcode(clipper.planes(), clip_vertex(fs.view, moved[i], 0.0).c));
+    });
+    fs.vertex_ms = ms_since(t0);
+
+    // The cell order.
+    t0 = Clock::now();
+    std::vector<uint32_t> centroid;
+    centroid_cell_order(fs.points_f, mesh.tets, glm::vec3(0.0f), glm::vec3(cf.f), centroid);
+    if (vm.options().order == CellOrder::centroid) {
+        fs.order = std::move(centroid);
+    } else {
+        const CellOrderFrame frame{&cam, vm.origin(), &fc, &fs.win, &fs.snapped, &clipper, width, height};
+        mpvonc_cell_order(mesh, vm.topology(), frame, centroid, fs.order, fs.order_stats);
+    }
+    fs.sort_ms = ms_since(t0);
+
+    // ProjectTet: the drawn cells in order; the clip stage for those the view cuts.
+    t0 = Clock::now();
+    fs.stream.reserve(vm.drawn_cells());
+    FrameFans fans(fs, gpu_outside);
+    std::vector<ClipVertex> poly, scratch;
+    constexpr unsigned kNearBit = 1u << kClipNear;
+    for (uint32_t t : fs.order) {
+        VicpCell c;
+        if (!vm.oriented(t, c)) continue;
+        const Tet& v = c.v;
+        const unsigned any = codes[v[0]] | codes[v[1]] | codes[v[2]] | codes[v[3]];
+        const unsigned all = codes[v[0]] & codes[v[1]] & codes[v[2]] & codes[v[3]];
+        if (any == 0) {
+            for (int f = 0; f < 4; ++f)
+                if (fans.buffer().gpu_clips(v[kVicpCorner[f][0]], v[kVicpCorner[f][1]], v[kVicpCorner[f][2]]))
+                    ++fs.gpu_clipped;
+            fs.stream.push_back(c);
+            continue;
+        }
+        if (all != 0) {
+            ++fs.culled_cells;
+            continue;
+        }
+        const uint32_t slot = uint32_t(fs.stream.size());
+        fs.stream.push_back(c);
+        const uint32_t first = uint32_t(fs.fan_triangles());
+        for (int f = 0; f < 4; ++f) {
+            const uint32_t corners[3] = {v[kVicpCorner[f][0]], v[kVicpCorner[f][1]], v[kVicpCorner[f][2]]};
+            clipper.clip_triangle(corners, poly, scratch);
+            fans.add(poly, slot);
+        }
+        if (any & kNearBit) {
+            clipper.near_face(v.data(), poly, scratch);
+            if (poly.size() >= 3) ++fs.near_sections;
+            fans.add(poly, slot);
+        }
+        fs.cuts.push_back({slot, first, uint32_t(fs.fan_triangles()) - first});
+        ++fs.clipped_cells;
+    }
+    fs.project_ms = ms_since(t0);
+    return fs;
+}
+
+}  // namespace uvr::gpu
