@@ -24,6 +24,10 @@ void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
     cmd.add_option("--segment", o.segment, "HAVS: table | exact (emulation only)")->capture_default_str();
     cmd.add_option("--gaps", o.gaps, "HAVS: exact | maxgap (VTK's heuristic)")->capture_default_str();
     cmd.add_option("--order", o.order, "VICP: cell order, mpvonc | centroid")->capture_default_str();
+    cmd.add_option("--coverage", o.coverage,
+                   "HAVS, VICP: gpu (the rasterizer's snapped coverage) | exact (the ray through the pixel centre "
+                   "crosses the primitive; emulation only)")
+        ->capture_default_str();
     cmd.add_option("--threshold", o.threshold, "Early-termination opacity (HAVS 0.99, VICP 1; 1 switches it off)");
     cmd.add_option("--table-size", o.table_size, "HAVS: pre-integration table texels per axis")->capture_default_str();
     cmd.add_option("--table-format", o.table_format, "HAVS: f32 | u16 | u8")->capture_default_str();
@@ -40,6 +44,12 @@ namespace {
 
 // The options every algorithm with a pre-integrated table shares: --segment, --threshold (`default_threshold` when
 // unset), --table-size and --table-format.
+gpu::Coverage coverage_option(const AlgoOptions& a)
+{
+    if (a.coverage != "gpu" && a.coverage != "exact") throw InputError("", "--coverage must be gpu or exact");
+    return a.coverage == "exact" ? gpu::Coverage::exact : gpu::Coverage::gpu;
+}
+
 struct TableOptions {
     gpu::SegmentMode segment = gpu::SegmentMode::table;
     float threshold = 1.0f;
@@ -80,6 +90,7 @@ gpu::HavsOptions havs_options(const AlgoOptions& a)
     o.threshold = t.threshold;
     o.table_size = t.table_size;
     o.table_format = t.table_format;
+    o.coverage = coverage_option(a);
     return o;
 }
 
@@ -92,6 +103,7 @@ gpu::VicpOptions vicp_options(const AlgoOptions& a)
     o.threshold = t.threshold;
     o.table_size = t.table_size;
     o.table_format = t.table_format;
+    o.coverage = coverage_option(a);
     return o;
 }
 
@@ -99,6 +111,8 @@ gpu::RaycastOptions raycast_options(const AlgoOptions& a)
 {
     const TableOptions t = table_options(a, 0.95);
     gpu::RaycastOptions o;
+    if (coverage_option(a) == gpu::Coverage::exact)
+        throw InputError("", "--coverage exact applies to HAVS and VICP: the ray caster's pass covers every pixel");
     if (a.step != -1.0 && !(a.step > 0.0 && std::isfinite(a.step)))
         throw InputError("", "--step must be positive and finite (world units)");
     o.step = a.step > 0.0 ? a.step : 0.0;  // 0: RaycastVolume's default
@@ -218,7 +232,11 @@ public:
         gpu::HavsFrame f = emu_ ? emu_->render(camera, width, height) : gl_->render(camera, width, height);
         AlgoResult r;
         const auto& st = f.stats;
-        r.stats = {{"k", a_.k}, {"segment", a_.segment}, {"gaps", a_.gaps}, {"faces", st.faces},
+        r.stats = {{"k", a_.k},
+                   {"segment", a_.segment},
+                   {"gaps", a_.gaps},
+                   {"coverage", a_.coverage},
+                   {"faces", st.faces},
                    {"table_ms", st.table_ms},
                    {"clip", {{"triangles", st.triangles}, {"clipped_faces", st.clipped_faces},
                              {"culled_faces", st.culled_faces}, {"near_sections", st.near_sections},
@@ -274,6 +292,7 @@ public:
         const auto& st = f.stats;
         r.stats = {{"order", a_.order},
                    {"segment", a_.segment},
+                   {"coverage", a_.coverage},
                    {"cells", st.cells},
                    {"drawn_cells", st.drawn_cells},
                    {"fragments", st.fragments},

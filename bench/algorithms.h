@@ -28,6 +28,7 @@ struct AlgoOptions {
     std::string segment = "table";
     std::string gaps = "exact";
     std::string order = "mpvonc";  // VICP's cell order
+    std::string coverage = "gpu";  // HAVS and VICP: gpu (the rasterizer's) | exact (emulation only)
     double threshold = -1.0;  // per algorithm default (SPEC §3): HAVS 0.99
     int table_size = 128;
     std::string table_format = "f32";

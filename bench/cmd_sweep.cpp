@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 
 #include <nlohmann/json.hpp>
 
@@ -125,7 +126,7 @@ void register_sweep(CLI::App& app)
                 throw InputError(a->scene.input.path, "is a tetrahedral mesh: --step sweeps the ray caster, which "
                                                       "renders regular grids (use --k for HAVS)");
         }
-        const std::vector<int> ks = parse_int_list("--k", a->ks, 1, gpu::kMaxK);
+        const std::vector<int> ks = parse_int_list("--k", a->ks, 1, std::numeric_limits<int>::max());
         if (ks.empty()) throw InputError("", "--k is empty");
         const std::vector<int> table_sizes = parse_int_list("--table-sizes", a->table_sizes, 2, 1024);
         havs_options(a->algo_options);  // reject bad options before any work

@@ -125,7 +125,9 @@ dvec2 havs_fragment_values(HavsFace f, ivec2 pix)
     precise double dx = px - ndc_x * havs_origin_x;
     precise double dy = py - ndc_y * havs_origin_y;
     precise double distance = sqrt((dx * dx + dy * dy) + pz * pz);
-    precise double s = (l0 * double(f.s[0]) + l1 * double(f.s[1])) + l2 * double(f.s[2]);
+    precise double s_raw = (l0 * double(f.s[0]) + l1 * double(f.s[1])) + l2 * double(f.s[2]);
+    // Clamped to [0, 1] before encoding (a NaN stays NaN, as in the emulation): see havs_fragment_values.
+    precise double s = s_raw < 0.0lf ? 0.0lf : s_raw > 1.0lf ? 1.0lf : s_raw;
     precise double side = f.side == 1.0 && outside ? double(havs_side_outside) : double(f.side);
     precise double x = side * (1.0lf + s);
     return dvec2(x, distance);

@@ -15,6 +15,10 @@ namespace uvr::test {
 constexpr double kConvergenceRmse = 1e-5;
 constexpr double kConvergenceMax = 1e-4;
 
+// The k of the convergence tests: more than any test scene puts on one pixel (each test requires it), so the
+// k-buffer never overflows and no ordering error remains.
+constexpr int kConvergenceK = 255;
+
 inline gpu::HavsOptions exact_havs_options(int k)
 {
     gpu::HavsOptions o;
@@ -24,7 +28,7 @@ inline gpu::HavsOptions exact_havs_options(int k)
     return o;
 }
 
-// HAVS's frame with exact segments and k = kMaxK, and the reference's.
+// HAVS's frame with exact segments and k = kConvergenceK, and the reference's.
 struct HavsAndReference {
     gpu::HavsFrame havs;
     Image reference;
@@ -34,7 +38,7 @@ struct HavsAndReference {
 inline HavsAndReference havs_and_reference(const Scene& s, const Camera& cam, int width, int height)
 {
     HavsAndReference r;
-    const gpu::HavsRenderer havs(s.mesh, s.topo, s.field, s.tf, exact_havs_options(gpu::kMaxK));
+    const gpu::HavsRenderer havs(s.mesh, s.topo, s.field, s.tf, exact_havs_options(kConvergenceK));
     r.havs = havs.render(cam, width, height);
     const RayIntegrator ri(s.mesh, s.topo, s.field, s.tf);
     ReferenceStats rs;

@@ -19,12 +19,12 @@ using test::Scene;
 using test::make_scene;
 using test::plot3d;
 
-// Renders HAVS (exact, k = kMaxK, no early termination) and the reference; requires k to cover every pixel.
+// Renders HAVS (exact, k = kConvergenceK, no early termination) and the reference; requires k to cover every pixel.
 Errors converge(const Scene& s, const Camera& cam, int size)
 {
     const test::HavsAndReference r = test::havs_and_reference(s, cam, size, size);
     INFO("largest fragment count " << r.havs.stats.max_fragments);
-    REQUIRE(r.havs.stats.max_fragments <= uint32_t(kMaxK));
+    REQUIRE(r.havs.stats.max_fragments <= uint32_t(test::kConvergenceK));
     CHECK(r.havs.stats.ordering_errors == 0);
     return r.errors;
 }
@@ -69,7 +69,8 @@ TEST_CASE("ordering errors are zero exactly where the image equals the fully sor
 {
     const Scene s = make_scene(load_builtin("builtin:torus-small"), 0);
     const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 20.0, 30.0);
-    const HavsFrame full = HavsRenderer(s.mesh, s.topo, s.field, s.tf, test::exact_havs_options(kMaxK)).render(cam, 128, 128);
+    const HavsFrame full =
+        HavsRenderer(s.mesh, s.topo, s.field, s.tf, test::exact_havs_options(test::kConvergenceK)).render(cam, 128, 128);
     REQUIRE(full.stats.ordering_errors == 0);
     uint64_t previous = UINT64_MAX;
     for (int k : {1, 2, 4, 8}) {
@@ -89,9 +90,12 @@ TEST_CASE("ordering errors are zero exactly where the image equals the fully sor
         }
         // Without an ordering error the same segments are composited in the same order: the same bits.
         CHECK(clean_but_different == 0);
-        // With one, the image differs, except where the misplaced fragment's segment has no length or colour.
+        // With one, a segment runs from a fragment nearer than the previous segment's back: the pixel composites
+        // another set of segments. The default transfer function has extinction everywhere (at least 0.05 of its
+        // scale), so every such segment of positive length carries colour, and the pixel differs from the sorted
+        // image. (Measured: 2,310, 244 and 1 such pixels at k = 1, 2 and 4, none equal.)
         INFO(erroneous_but_equal << " of " << erroneous << " pixels with ordering errors equal the sorted image");
-        CHECK(erroneous_but_equal * 20 <= erroneous + 20);
+        CHECK(erroneous_but_equal == 0);
     }
     CHECK(previous == 0);  // k = 8 suffices for this view
 }
@@ -100,7 +104,7 @@ TEST_CASE("table mode: the error against exact integration shrinks as the table 
 {
     const Scene s = make_scene(load_builtin("builtin:torus-small"), 0);
     const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 10.0, 20.0);
-    HavsOptions o = test::exact_havs_options(kMaxK);
+    HavsOptions o = test::exact_havs_options(test::kConvergenceK);
     const Image exact = HavsRenderer(s.mesh, s.topo, s.field, s.tf, o).render(cam, 128, 128).image;
     o.segment = SegmentMode::table;
     double previous = INFINITY;
@@ -135,4 +139,48 @@ TEST_CASE("far from the origin: HAVS on coordinates at 1e8 with features at 1e-3
     INFO("RMSE " << e.rmse << ", max " << e.max_abs << ", pixels over " << kConvergenceMax << ": " << e.over);
     CHECK(e.rmse <= kConvergenceRmse);
     CHECK(e.max_abs <= kConvergenceMax);
+}
+
+TEST_CASE("exact gaps do not apply the maximum-gap rule; --gaps maxgap does")
+{
+    // SPEC §6 compares the exact gaps with VTK's heuristic: exact gaps must not drop a segment for its length.
+    const Scene s = make_scene(load_builtin("builtin:torus-small"), 0);
+    const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 20.0, 30.0);
+    HavsOptions o = test::exact_havs_options(1);
+    SECTION("the frame constants")
+    {
+        o.gaps = GapMode::exact;
+        const HavsMesh exact(s.mesh, s.topo, s.field, s.tf, o);
+        CHECK(setup_havs_frame(exact, cam, 64, 64).constants.max_gap == 0.0f);
+        o.gaps = GapMode::maxgap;
+        const HavsMesh maxgap(s.mesh, s.topo, s.field, s.tf, o);
+        CHECK(setup_havs_frame(maxgap, cam, 64, 64).constants.max_gap == float(maxgap.longest_edge()));
+    }
+    SECTION("a real segment longer than the longest edge is composited with exact gaps, dropped by the heuristic")
+    {
+        // An ordering error's segment at k = 1: the stored fragment, then one 3 longest edges behind it, both
+        // interior.
+        o.gaps = GapMode::exact;
+        const HavsMesh hm(s.mesh, s.topo, s.field, s.tf, o);
+        const HavsFrameConstants fc = setup_havs_frame(hm, cam, 64, 64).constants;
+        const float edge = float(hm.longest_edge());
+        int calls = 0;
+        const SegmentShader shade = [&](float, float, float, float) {
+            ++calls;
+            return glm::vec4(0.1f, 0.1f, 0.1f, 0.2f);
+        };
+        const KEntry stored{1.5f, 1.0f}, behind{1.25f, 1.0f + 3.0f * edge};
+        KEntry buf[1] = {stored};
+        glm::vec4 fb(0.0f);
+        REQUIRE(havs_kbuffer(fc, behind, buf, 1, fb, shade, nullptr));
+        CHECK(calls == 1);
+        CHECK(fb.a > 0.0f);
+        HavsFrameConstants heuristic = fc;
+        heuristic.max_gap = edge;
+        buf[0] = stored;
+        fb = glm::vec4(0.0f);
+        REQUIRE(havs_kbuffer(heuristic, behind, buf, 1, fb, shade, nullptr));
+        CHECK(calls == 1);
+        CHECK(fb == glm::vec4(0.0f));
+    }
 }

@@ -43,7 +43,7 @@ void require_converges(const Scene& s, const Camera& cam, int width, int height,
                  << r.errors.over << "; " << st.clipped_faces << " faces clipped, " << st.culled_faces << " culled, "
                  << st.near_sections << " near sections, " << st.gpu_clipped << " triangles left for the GPU to clip, "
                  << st.max_fragments << " fragments at most");
-    REQUIRE(st.max_fragments <= uint32_t(kMaxK));
+    REQUIRE(st.max_fragments <= uint32_t(test::kConvergenceK));
     CHECK(st.clipped_faces > 0);
     CHECK(st.gpu_clipped == 0);
     if (expect_near_sections) CHECK(st.near_sections > 0);

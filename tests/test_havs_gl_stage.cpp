@@ -379,7 +379,7 @@ TEST_CASE("havs_fragment_entry in GLSL computes the emulation's bits on 1,200,00
 {
     GlHavsFragmentHarness& h = *gl(GlPlatform::osmesa).harness;
     Mismatches mm, mm_double;
-    uint64_t snapped = 0, transcription_off = 0, cases_total = 0;
+    uint64_t snapped = 0, transcription_off = 0, cases_total = 0, at_range_end = 0;
     uint64_t seed = 200;
     for (bool ortho : {false, true}) {
         EntryGen g(seed++, ortho);
@@ -396,14 +396,21 @@ TEST_CASE("havs_fragment_entry in GLSL computes the emulation's bits on 1,200,00
             bool sn = false;
             const glm::dvec2 d = entry_values(fc, faces[i], pixels[i].x, pixels[i].y, sn);
             snapped += sn ? 1 : 0;
+            // A fragment outside its triangle whose scalar is exactly 0 or 1: extrapolation left [0, 1] and the
+            // encoding clamped it (havs_fragment_values), so both twins' clamps are compared here.
+            const double m = std::fabs(d.x);
+            const bool outside = havs_fragment_values(fc, faces[i], pixels[i].x, pixels[i].y).outside;
+            at_range_end += outside && (m == 1.0 || m == 2.0 || m == 4.0 || m == 8.0 || m == 16.0 || m == 32.0);
             if (bits(float(d.x)) != bits(e.x) || bits(float(d.y)) != bits(e.y)) ++transcription_off;
             for (int c = 0; c < 2; ++c) mm_double.check(d[c], values[i][c], i, c ? "distance" : "x");
         }
         cases_total += faces.size();
     }
-    INFO(cases_total << " fragments, " << snapped << " took the snapped weights");
+    INFO(cases_total << " fragments, " << snapped << " took the snapped weights, " << at_range_end
+                      << " outside their triangle with the scalar clamped to 0 or 1");
     CHECK(cases_total >= 1000000);
     CHECK(snapped > 20000);
+    CHECK(at_range_end > 20000);
     CHECK(transcription_off == 0);
     mm.report("havs_fragment_entry");
     mm_double.report("havs_fragment_values (double)");

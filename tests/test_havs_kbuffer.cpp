@@ -196,12 +196,68 @@ TEST_CASE("fragment values: a face's distance and scalar at a pixel centre")
     CHECK(havs_fragment_entry(fc, f, 3, 2).x < 0.0f);
 }
 
+TEST_CASE("an extrapolated scalar below 0 keeps its fragment's kind: clamped to 0 before the encoding")
+{
+    // The face of the case above, s = 0, 1, 0: the scalar is window x / 16. Pixel (-1, 2) has its centre at x = -0.5,
+    // outside the face by a weight of -1/32 (within kOutsideTolerance: the plane is extrapolated), where the scalar
+    // is -1/32. Unclamped, the extrapolated fragment's x = 4 (1 - 1/32) = 3.875 would decode as an interior fragment
+    // with scalar 2.875, and an entry face's 16 (1 - 1/32) = 15.5 as no entry face.
+    HavsFrameConstants fc;
+    fc.two_over_width = fc.two_over_height = 2.0 / 8.0;
+    fc.origin_x = fc.origin_y = 1.0;
+    HavsFace f;
+    f.q[0] = {-1.0, -1.0, -4.0};
+    f.q[1] = {3.0, -1.0, -4.0};
+    f.q[2] = {-1.0, 3.0, -4.0};
+    f.v[0] = {0.0, 0.0};
+    f.v[1] = {16.0, 0.0};
+    f.v[2] = {0.0, 16.0};
+    for (int j = 0; j < 3; ++j) {
+        f.fx[j] = int32_t((f.v[j].x - 0.5) * 256);
+        f.fy[j] = int32_t((f.v[j].y - 0.5) * 256);
+        f.inv_w[j] = 1.0;
+    }
+    f.s[0] = 0.0;
+    f.s[1] = 1.0;
+    f.s[2] = 0.0;
+    const FragmentValues v = havs_fragment_values(fc, f, -1, 2);
+    REQUIRE(v.outside);
+    REQUIRE_FALSE(v.snapped);
+    const KEntry outside = havs_fragment_entry(fc, f, -1, 2);
+    CHECK(outside.x == kSideOutside);
+
+    SECTION("the k-buffer reads the extrapolated fragment's scalar as 0")
+    {
+        // Issue 23's reproducer: stored {1.5, 1}, k = 1, the extrapolated fragment behind it.
+        Recorder rec;
+        std::vector<KEntry> buf{frag(0.5f, 1.0f)};
+        glm::vec4 fb(0.0f);
+        REQUIRE(havs_kbuffer(frame(), outside, buf.data(), 1, fb, rec.shader(), nullptr));
+        REQUIRE(rec.calls.size() == 1);
+        CHECK(rec.calls[0].u_front == 0.5f);
+        CHECK(rec.calls[0].u_back == 0.0f);
+    }
+    SECTION("an entry face stays an entry face, and the segment that ends on it is a gap")
+    {
+        f.side = kSideEntry;
+        const KEntry entry = havs_fragment_entry(fc, f, -1, 2);
+        CHECK(entry.x == kSideEntry);
+        Recorder rec;
+        std::vector<KEntry> buf{frag(0.5f, 1.0f)};
+        glm::vec4 fb(0.0f);
+        REQUIRE(havs_kbuffer(frame(), entry, buf.data(), 1, fb, rec.shader(), nullptr));
+        CHECK(rec.calls.empty());
+        CHECK(fb == glm::vec4(0.0f));
+    }
+}
+
 TEST_CASE("fragment values: the snapped weights are the exact integer edge functions across the largest viewport")
 {
     // A triangle spanning a 16384-pixel viewport and a pixel far outside it (the snapped branch): the fixed-point
     // differences reach 2^22 and the edge functions 2^44, where a float or a rounded double would lose bits
-    // (kSnappedEdgeBits). With s = (0, 1, 0) and 1 / w = 1, x = 4 (1 + e1 * (1 / (e0 + e1 + e2))) from the 64-bit
-    // integer edge functions, bit for bit (4: kSideOutside, an interior face's fragment outside its triangle).
+    // (kSnappedEdgeBits). With s = (0, 0, 1) and 1 / w = 1, x = 4 (1 + e2 * (1 / (e0 + e1 + e2))) from the 64-bit
+    // integer edge functions, bit for bit (4: kSideOutside, an interior face's fragment outside its triangle; the
+    // scalar e2 / (e0 + e1 + e2) lies inside [0, 1], so the encoding's clamp leaves it alone).
     HavsFrameConstants fc;
     fc.two_over_width = fc.two_over_height = 2.0 / 16384.0;
     HavsFace f;
@@ -212,7 +268,7 @@ TEST_CASE("fragment values: the snapped weights are the exact integer edge funct
         f.fx[j] = snap_to_fixed(float(v[j].x));
         f.fy[j] = snap_to_fixed(float(v[j].y));
         f.inv_w[j] = 1.0;
-        f.s[j] = j == 1 ? 1.0 : 0.0;
+        f.s[j] = j == 2 ? 1.0 : 0.0;
     }
     const int px = 1, py = 16380;
     const FragmentValues got = havs_fragment_values(fc, f, px, py);
@@ -223,7 +279,7 @@ TEST_CASE("fragment values: the snapped weights are the exact integer edge funct
     };
     const int64_t e0 = edge(1, 2), e1 = edge(2, 0), e2 = edge(0, 1);
     INFO("e0 " << e0 << ", e1 " << e1 << ", e2 " << e2);
-    CHECK(std::llabs(e1) > (int64_t(1) << 43));  // the size the test is about
-    const double expected = double(kSideOutside) * (1.0 + double(e1) * (1.0 / double(e0 + e1 + e2)));
+    CHECK(std::llabs(e2) > (int64_t(1) << 43));  // the size the test is about
+    const double expected = double(kSideOutside) * (1.0 + double(e2) * (1.0 / double(e0 + e1 + e2)));
     CHECK(got.x == expected);
 }

@@ -103,7 +103,8 @@ TEST_CASE("a mesh with a sliver of 1e-12 volume: every algorithm gives a finite 
         VicpOptions vo;
         vo.segment = SegmentMode::exact;
         const VicpFrame vicp = VicpRenderer(s.mesh, s.topo, s.field, s.tf, vo).render(cam, size, size);
-        const HavsFrame havs = HavsRenderer(s.mesh, s.topo, s.field, s.tf, test::exact_havs_options(kMaxK)).render(cam, size, size);
+        const HavsFrame havs =
+            HavsRenderer(s.mesh, s.topo, s.field, s.tf, test::exact_havs_options(test::kConvergenceK)).render(cam, size, size);
         // The default configurations (pre-integrated tables) too: finite is all that is asked of them here.
         const VicpFrame vicp_table = VicpRenderer(s.mesh, s.topo, s.field, s.tf, VicpOptions{}).render(cam, size, size);
         const HavsFrame havs_table = HavsRenderer(s.mesh, s.topo, s.field, s.tf, HavsOptions{}).render(cam, size, size);

@@ -3,13 +3,17 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+
+#include <unistd.h>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "gpu/pipeline/rasterize.h"
 #include "gpu/pipeline/denormals.h"
+#include "gpu/pipeline/exact_coverage.h"
 #include "gpu/pipeline/tiles.h"
 #include "reference/error.h"
 
@@ -23,9 +27,24 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 const HavsOptions& checked_k(const HavsOptions& options)
 {
-    if (options.k < 1 || options.k > kMaxK)
-        throw InputError("", "--k must be between 1 and " + std::to_string(kMaxK));
+    if (options.k < 1) throw InputError("", "--k must be at least 1");
     return options;
+}
+
+// The emulated k-buffer holds k entries of 8 bytes a pixel. It may take at most half of the machine's memory, so
+// that the mesh, its topology and the frame's other buffers still fit; a larger k is refused before any work.
+void check_kbuffer_memory(int k, int width, int height)
+{
+    const double bytes = double(k) * double(width) * double(height) * double(sizeof(KEntry));
+    const double physical = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGESIZE));
+    if (bytes > 0.5 * physical) {
+        char msg[256];
+        std::snprintf(msg, sizeof msg,
+                      "--k %d at %dx%d needs a k-buffer of %.1f GiB, more than half of this machine's %.1f GiB; use a "
+                      "smaller k or image",
+                      k, width, height, bytes / 1073741824.0, physical / 1073741824.0);
+        throw InputError("", msg);
+    }
 }
 
 }  // namespace
@@ -74,6 +93,7 @@ HavsRenderer::~HavsRenderer() = default;
 
 HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
 {
+    check_kbuffer_memory(mesh_.options().k, width, height);
     HavsFrame out;
     HavsStats& st = out.stats;
     st.table_ms = mesh_.table_ms();
@@ -103,37 +123,48 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     std::vector<KEntry> kbuf(npix * std::size_t(k), kEmptyEntry);
     std::vector<glm::vec4> fb(npix, glm::vec4(0.0f));
     std::vector<KBufferDiagnostics> diag(npix);
+    const bool exact_coverage = mesh_.options().coverage == Coverage::exact;
 
     t0 = Clock::now();
     tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
         for (uint32_t i : items) {
             const uint32_t id = fs.draw[i];
             const uint32_t* v = fs.triangle(mesh_, id);
+            const auto fragment = [&](const HavsFace& face, int px, int py) {
+                const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
+                const KEntry e = havs_fragment_entry(fc, face, px, py, exact_coverage);
+                havs_kbuffer(fc, e, &kbuf[p * std::size_t(k)], k, fb[p], shade, &diag[p]);
+            };
+            // Flat per-face constants, in double, rounded once (what the CPU uploads). A boundary face is oriented
+            // outward, so it is an exit face when the rasterizer sees it back-facing (clockwise in window coordinates:
+            // gl_FrontFacing false) and an entry face otherwise. The facing comes from the coverage's own area (the
+            // rasterizer's snapped one, or the exact one), so it agrees with the fragments even for slivers.
+            if (exact_coverage) {
+                const glm::dvec2 p[3] = {{fs.win_d[v[0]].x, fs.win_d[v[0]].y}, {fs.win_d[v[1]].x, fs.win_d[v[1]].y},
+                                         {fs.win_d[v[2]].x, fs.win_d[v[2]].y}};
+                const ExactTriangle et = exact_triangle(p, v);
+                if (et.empty()) continue;
+                HavsFace face = havs_face_constants(mesh_, fs, id);
+                if (face.side == kSideExit && et.facing != Facing::back) face.side = kSideEntry;
+                for_each_exact_fragment_in_tile(et, tile, [&](int px, int py) { fragment(face, px, py); });
+                continue;
+            }
             const WindowCoord wv[3] = {win[v[0]], win[v[1]], win[v[2]]};
             const TriangleSetup ts = setup_triangle(wv, fbuf);
             if (ts.empty()) continue;
-            // Flat per-face constants, in double, rounded once (what the CPU uploads). A boundary face is oriented
-            // outward, so it is an exit face when the rasterizer sees it back-facing (clockwise in window coordinates:
-            // gl_FrontFacing false) and an entry face otherwise. The rasterizer's facing comes from the snapped area,
-            // so it agrees with the coverage the fragments come from even for slivers.
             HavsFace face = havs_face_constants(mesh_, fs, id);
             if (face.side == kSideExit && ts.facing != Facing::back) face.side = kSideEntry;
-            for_each_fragment_in_tile(ts, tile, [&](int px, int py) {
-                const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
-                const KEntry e = havs_fragment_entry(fc, face, px, py);
-                havs_kbuffer(fc, e, &kbuf[p * std::size_t(k)], k, fb[p], shade, &diag[p]);
-            });
+            for_each_fragment_in_tile(ts, tile, [&](int px, int py) { fragment(face, px, py); });
         }
     });
     st.raster_fragment_ms = ms_since(t0);
 
-    // Flush passes: k full-screen passes of the flush fragment composite what is left.
+    // The flush: what k full-screen passes of the flush fragment composite (havs_flush, the same bits).
     t0 = Clock::now();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, npix), [&](const tbb::blocked_range<std::size_t>& range) {
         const FlushDenormals llvmpipe_mxcsr;
         for (std::size_t p = range.begin(); p != range.end(); ++p)
-            for (int pass = 0; pass < k; ++pass)
-                havs_kbuffer(fc, kFlushFragment, &kbuf[p * std::size_t(k)], k, fb[p], shade, &diag[p]);
+            havs_flush(fc, &kbuf[p * std::size_t(k)], k, fb[p], shade, &diag[p]);
     });
     st.flush_ms = ms_since(t0);
 

@@ -1,10 +1,13 @@
 #include "gpu/havs/havs_fragment.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace uvr::gpu {
 
-FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace& f, int pix_x, int pix_y)
+FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace& f, int pix_x, int pix_y,
+                                    bool covered_exactly)
 {
     // Edge functions of the triangle at the pixel centre (their sum: the doubled signed area).
     const double fx = double(pix_x) + 0.5, fy = double(pix_y) + 0.5;
@@ -14,10 +17,12 @@ FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace
     double e2 = (v[1].x - v[0].x) * (fy - v[0].y) - (v[1].y - v[0].y) * (fx - v[0].x);
     const double sum = (e0 + e1) + e2;
     const double lim = -kOutsideTolerance * sum;
-    const bool inside = sum > 0.0 ? (e0 >= lim && e1 >= lim && e2 >= lim) : (e0 <= lim && e1 <= lim && e2 <= lim);
+    const bool inside = covered_exactly ||
+                        (sum > 0.0 ? (e0 >= lim && e1 >= lim && e2 >= lim) : (e0 <= lim && e1 <= lim && e2 <= lim));
     FragmentValues out;
     out.snapped = !inside;
-    out.outside = sum > 0.0 ? (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) : (e0 > 0.0 || e1 > 0.0 || e2 > 0.0);
+    out.outside = !covered_exactly &&
+                  (sum > 0.0 ? (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) : (e0 > 0.0 || e1 > 0.0 || e2 > 0.0));
     if (!inside) {
         // Covered only because of snapping: the snapped triangle's edge functions (fixed value 256 * p is pixel p's
         // centre), integers held in double and exact (kSnappedEdgeBits).
@@ -42,21 +47,27 @@ FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace
     const double ndc_y = fy * fc.two_over_height - 1.0;
     const double dx = px - ndc_x * fc.origin_x, dy = py - ndc_y * fc.origin_y;
     const double distance = std::sqrt((dx * dx + dy * dy) + pz * pz);
-    const double s = (l0 * double(f.s[0]) + l1 * double(f.s[1])) + l2 * double(f.s[2]);
+    // The scalar, clamped to [0, 1] before encoding: the weights of a pixel outside the triangle are negative down
+    // to -kOutsideTolerance, so an extrapolated scalar can leave the range, and side * (1 + s) with s < 0 would fall
+    // into the range of another kind (4 (1 - 0.03) = 3.88 decodes as an interior fragment with scalar 2.88; an entry
+    // face's 16 (1 - 0.01) is no entry face). Written as comparisons, so that a NaN stays NaN in both twins.
+    const double s_raw = (l0 * double(f.s[0]) + l1 * double(f.s[1])) + l2 * double(f.s[2]);
+    const double s = s_raw < 0.0 ? 0.0 : s_raw > 1.0 ? 1.0 : s_raw;
     const double side = f.side == kSideInterior && out.outside ? kSideOutside : f.side;
     out.x = side * (1.0 + s);
     out.distance = distance;
     return out;
 }
 
-KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& f, int pix_x, int pix_y)
+KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& f, int pix_x, int pix_y, bool covered_exactly)
 {
     // The entry as the k-buffer stores it: float32.
-    const FragmentValues v = havs_fragment_values(fc, f, pix_x, pix_y);
+    const FragmentValues v = havs_fragment_values(fc, f, pix_x, pix_y, covered_exactly);
     return {float(v.x), float(v.distance)};
 }
 
 namespace {
+
 bool real_entry(const KEntry& e) { return e.y > 0.0f && e.y < __builtin_inff(); }
 // The normalized scalar of an entry (see the entry encoding in havs_fragment.h).
 float decode_scalar(float x)
@@ -64,44 +75,15 @@ float decode_scalar(float x)
     const float m = std::fabs(x);
     return m < kSideOutside ? m - 1.0f : m < kSideEntry ? m * 0.25f - 1.0f : m * 0.0625f - 1.0f;
 }
-}  // namespace
 
-bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& fb, const SegmentShader& shade,
-                  KBufferDiagnostics* diag)
+
+// The segment of one run of the program, from `front` to `second` (see havs_kbuffer): composited over `fb`, with the
+// diagnostics. Returns whether `second` is to be marked an exit in the buffer. Shared by the program and the flush.
+bool composite_segment(const HavsFrameConstants& fc, KEntry front, KEntry second, glm::vec4& fb,
+                       const SegmentShader& shade, KBufferDiagnostics* diag)
 {
-    // KIL (threshold - alpha): the seed kills the fragment once the pixel is opaque enough; nothing is written.
-    if (fc.threshold - fb.a < 0.0f) return false;
-    if (diag && real_entry(a0)) ++diag->fragments;
-    // Find the entry with the smallest distance (r0); the others go to r1..rk. The seed's CMP: on t < 0 the running
-    // minimum stays; otherwise (ties included) the stored entry becomes the minimum and the running one moves on, so
-    // on a tie the entry already in the buffer is composited first.
-    // r is scratch for k + 1 entries: plain floats, so that no call pays for initializing kMaxK + 1 of them.
-    float rx[kMaxK + 1], ry[kMaxK + 1];
-    rx[0] = a0.x;
-    ry[0] = a0.y;
-    for (int i = 1; i <= k; ++i) {
-        const float t = ry[0] - a[i - 1].y;
-        if (t < 0.0f) {
-            rx[i] = a[i - 1].x;
-            ry[i] = a[i - 1].y;
-        } else {
-            rx[i] = rx[0];
-            ry[i] = ry[0];
-            rx[0] = a[i - 1].x;
-            ry[0] = a[i - 1].y;
-        }
-    }
-    const auto r = [&](int i) { return KEntry{rx[i], ry[i]}; };
-    // The second smallest (r7 of the seed) among r1..rk, by the same chain; it stays in the buffer.
-    int second_i = 1;
-    for (int i = 2; i <= k; ++i) {
-        const float t = ry[second_i] - ry[i];
-        if (!(t < 0.0f)) second_i = i;
-    }
-    const KEntry second = r(second_i);
     // The segment from r0 to r7: table coordinates (MAD for t_z, unfused), then the lookup; nullified when r0's
     // scalar is negative (a gap, an empty or a flush entry) and, with --gaps maxgap, when it is longer than the gap.
-    const KEntry front = r(0);
     const float length = second.y - front.y;
     glm::vec4 c(0.0f);
     // A segment that ends on a flush fragment (distance +inf) never lies inside the mesh: it starts on the last
@@ -117,16 +99,6 @@ bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm
         const float t_z = length * fc.length_scale + fc.length_bias;
         c = shade(decode_scalar(front.x), decode_scalar(second.x), t_z, length);
     }
-    // Exact gaps: behind an exit face the ray is outside the mesh until it meets an entry face. Rasterization can put
-    // a fragment there: a pixel just past the edge where interior faces meet the exit face is covered through
-    // snapping, and their planes, extrapolated at a grazing angle, place the fragment a little behind the exit (2e-5
-    // and 3e-4 units on a torus pixel, docs/havs.md), which would composite a segment outside the mesh. Such a
-    // fragment, extrapolated (kSideOutside) and right behind an exit, is marked an exit in the buffer, so that the
-    // segment starting on it is a gap too. A fragment inside its own triangle is left alone: behind an exit it is a
-    // real one that arrived late (an ordering error), and its segment is real.
-    if (real_entry(front) && front.x < 0.0f && real_entry(second) && second.x >= kSideOutside &&
-        second.x < kSideEntry)
-        rx[second_i] = -rx[second_i];
     // Ordering: in front-to-back order each segment starts where the previous one ended. A front nearer than the
     // previous segment's back means a fragment arrived after the segment across it was composited.
     if (diag && real_entry(front)) {
@@ -137,14 +109,89 @@ bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm
     const float one_minus_a = 1.0f - fb.a;
     fb = glm::vec4(c.r * one_minus_a + fb.r, c.g * one_minus_a + fb.g, c.b * one_minus_a + fb.b,
                    c.a * one_minus_a + fb.a);
+    // Exact gaps: behind an exit face the ray is outside the mesh until it meets an entry face. Rasterization can put
+    // a fragment there: a pixel just past the edge where interior faces meet the exit face is covered through
+    // snapping, and their planes, extrapolated at a grazing angle, place the fragment a little behind the exit (2e-5
+    // and 3e-4 units on a torus pixel, docs/havs.md), which would composite a segment outside the mesh. Such a
+    // fragment, extrapolated (kSideOutside) and right behind an exit, is marked an exit in the buffer, so that the
+    // segment starting on it is a gap too. A fragment inside its own triangle is left alone: behind an exit it is a
+    // real one that arrived late (an ordering error), and its segment is real.
+    return real_entry(front) && front.x < 0.0f && real_entry(second) && second.x >= kSideOutside &&
+           second.x < kSideEntry;
+}
+
+}  // namespace
+
+bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& fb, const SegmentShader& shade,
+                  KBufferDiagnostics* diag)
+{
+    // KIL (threshold - alpha): the seed kills the fragment once the pixel is opaque enough; nothing is written.
+    if (fc.threshold - fb.a < 0.0f) return false;
+    if (diag && real_entry(a0)) ++diag->fragments;
+    // Find the entry with the smallest distance (r0); the others go to r1..rk. The seed's CMP: on t < 0 the running
+    // minimum stays; otherwise (ties included) the stored entry becomes the minimum and the running one moves on, so
+    // on a tie the entry already in the buffer is composited first.
+    // r is scratch for k + 1 entries, per thread, kept between calls: no call pays for allocating or initializing it.
+    thread_local std::vector<KEntry> scratch;
+    if (scratch.size() < std::size_t(k) + 1) scratch.resize(std::size_t(k) + 1);
+    KEntry* r = scratch.data();
+    r[0] = a0;
+    for (int i = 1; i <= k; ++i) {
+        const float t = r[0].y - a[i - 1].y;
+        if (t < 0.0f) {
+            r[i] = a[i - 1];
+        } else {
+            r[i] = r[0];
+            r[0] = a[i - 1];
+        }
+    }
+    // The second smallest (r7 of the seed) among r1..rk, by the same chain; it stays in the buffer.
+    int second_i = 1;
+    for (int i = 2; i <= k; ++i) {
+        const float t = r[second_i].y - r[i].y;
+        if (!(t < 0.0f)) second_i = i;
+    }
+    if (composite_segment(fc, r[0], r[second_i], fb, shade, diag)) r[second_i].x = -r[second_i].x;
     // Write back r1..rk.
     uint32_t held = 0;
     for (int i = 1; i <= k; ++i) {
-        a[i - 1] = r(i);
+        a[i - 1] = r[i];
         held += real_entry(a[i - 1]) ? 1u : 0u;
     }
     if (diag && held > diag->max_held) diag->max_held = held;
     return true;
+}
+
+void havs_flush(const HavsFrameConstants& fc, const KEntry* a, int k, glm::vec4& fb, const SegmentShader& shade,
+                KBufferDiagnostics* diag)
+{
+    // k runs of the program on the flush fragment (distance +inf) take the entries out in the order: distance
+    // ascending, and among equal distances the later slot first (the chains' ties, which keep the relative slot
+    // order of entries at one distance from run to run); each run's second entry is the next run's front. A
+    // distance that is NaN breaks that order: then the k runs are made as they are. Derivation: docs/havs.md, "The
+    // flush".
+    thread_local std::vector<uint32_t> order;
+    order.resize(std::size_t(k));
+    for (int i = 0; i < k; ++i) {
+        if (std::isnan(a[i].y)) {
+            thread_local std::vector<KEntry> copy;
+            copy.assign(a, a + k);
+            for (int pass = 0; pass < k; ++pass) havs_kbuffer(fc, kFlushFragment, copy.data(), k, fb, shade, diag);
+            return;
+        }
+        order[std::size_t(i)] = uint32_t(i);
+    }
+    std::sort(order.begin(), order.end(),
+              [a](uint32_t i, uint32_t j) { return a[i].y < a[j].y || (a[i].y == a[j].y && i > j); });
+    KEntry front = a[order[0]];
+    for (int pass = 0; pass < k; ++pass) {
+        if (fc.threshold - fb.a < 0.0f) return;  // KIL: this run and every later one write nothing
+        // Once the front is a flush fragment, so is every later entry: the runs composite nothing.
+        if (std::isinf(front.y)) return;
+        KEntry second = pass + 1 < k ? a[order[std::size_t(pass) + 1]] : kFlushFragment;
+        if (composite_segment(fc, front, second, fb, shade, diag)) second.x = -second.x;
+        front = second;
+    }
 }
 
 }  // namespace uvr::gpu

@@ -80,10 +80,14 @@ struct FragmentValues {
     bool snapped = false;
     bool outside = false;
 };
-FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace& face, int px, int py);
+// `covered_exactly` (--coverage exact, emulation only): the pixel's ray crosses the face, so its values are the
+// crossing's whatever rounding says of the edge functions (never the snapped weights, never kSideOutside).
+FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace& face, int px, int py,
+                                    bool covered_exactly = false);
 
 // The incoming fragment's entry at window pixel (px, py) (gl_FragCoord.xy = (px + 0.5, py + 0.5)).
-KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& face, int px, int py);
+KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& face, int px, int py,
+                           bool covered_exactly = false);
 
 
 struct KBufferDiagnostics {
@@ -93,12 +97,16 @@ struct KBufferDiagnostics {
     float last_back = 0.0f;        // back distance of the last composited segment (bookkeeping)
 };
 
-// The emulation takes any k from 1 to kMaxK (the GL backend every k its draw buffers allow).
-inline constexpr int kMaxK = 255;
 
 // One run of the fragment program on one pixel. `entries` holds the k stored entries (a1..ak of the seed). Returns
 // false when the fragment is killed (the framebuffer's alpha is above the threshold): nothing is written.
 bool havs_kbuffer(const HavsFrameConstants& fc, KEntry incoming, KEntry* entries, int k, glm::vec4& framebuffer,
                   const SegmentShader& shade, KBufferDiagnostics* diag);
+
+// The flush: what k runs of havs_kbuffer on kFlushFragment composite over `framebuffer` from the k stored `entries`,
+// bit for bit, in k log k steps instead of k^2 (the entries are left as they are; a frame's flush is its last use of
+// them).
+void havs_flush(const HavsFrameConstants& fc, const KEntry* entries, int k, glm::vec4& framebuffer,
+                const SegmentShader& shade, KBufferDiagnostics* diag);
 
 }  // namespace uvr::gpu

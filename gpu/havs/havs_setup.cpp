@@ -193,11 +193,12 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
         fc.length_scale = table->length_scale();
         fc.length_bias = table->length_bias();
     }
-    // Both gap modes nullify a segment longer than the mesh's longest edge: consecutive fragments inside the mesh lie
-    // in one tetrahedron, so such a segment can only span a gap. With --gaps maxgap that is the whole rule (VTK's
-    // heuristic); with exact gaps it is a safety net under the exit-face marking, for a fragment that rounding placed
-    // just behind the exit face it belongs before (a ray grazing a silhouette edge).
-    fc.max_gap = float(hm.longest_edge());
+    // --gaps maxgap (VTK's heuristic): a segment longer than the mesh's longest edge contributes nothing, since
+    // consecutive fragments inside the mesh lie in one tetrahedron and a longer segment can only span a gap. Exact
+    // gaps use the exit-face marks alone (0: no limit), so that SPEC §6's comparison of the two compares the rules and
+    // not the heuristic with itself plus more: a real segment longer than the longest edge (an ordering error's, when
+    // k is too small) is composited.
+    fc.max_gap = hm.options().gaps == GapMode::maxgap ? float(hm.longest_edge()) : 0.0f;
     return fs;
 }
 

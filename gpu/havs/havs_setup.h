@@ -15,6 +15,7 @@
 
 #include "gpu/havs/havs_fragment.h"
 #include "gpu/pipeline/view_setup.h"
+#include "gpu/pipeline/exact_coverage.h"
 #include "gpu/pipeline/preintegration_table.h"
 #include "gpu/pipeline/segment.h"
 #include "gpu/pipeline/rasterize.h"
@@ -36,6 +37,7 @@ struct HavsOptions {
     TexelFormat table_format = TexelFormat::f32;
     double table_max_length = 0.0;  // 0: the mesh's longest edge (no segment inside one cell is longer)
     TextureFilter filter = TextureFilter::linear;
+    Coverage coverage = Coverage::gpu;  // --coverage exact: the emulation covers pixels without snapping
 };
 
 

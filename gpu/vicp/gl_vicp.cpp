@@ -46,6 +46,8 @@ const VicpOptions& checked_gl_options(const GlContext& ctx, const TetMesh& mesh,
     if (o.segment == SegmentMode::exact)
         throw InputError("", "--segment exact runs only in the emulation (--backend emu): on a GPU the fragment "
                              "program samples the pre-integrated table");
+    if (o.coverage == Coverage::exact)
+        throw InputError("", "--coverage exact runs only in the emulation (--backend emu): a GPU's rasterizer snaps");
     // The per-point arrays are read at any index by every draw: each must fit one storage block.
     const double point_bytes = 3.0 * sizeof(double) * double(mesh.points.size());
     if (point_bytes > double(max_block_bytes(ctx)))

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "gpu/pipeline/exact_coverage.h"
 #include "gpu/pipeline/rasterize.h"
 #include "gpu/pipeline/tiles.h"
 
@@ -42,6 +43,43 @@ void store_clip_stats(const VicpFrameSetup& fs, VicpStats& st)
     st.near_sections = fs.near_sections;
     st.fan_triangles = fs.fan_triangles();
     st.gpu_clipped = fs.gpu_clipped;
+}
+
+// --coverage exact: the cell covers the pixels whose rays cross it, its whole chord from the mesh's own points in
+// double (the cut cells too: a chord starts at the eye at the earliest), composited as the fragment program does.
+// A pixel's ray that only touches the cell (a chord of no length) is not covered.
+void VicpRenderer::composite_exact_coverage(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot,
+                                            bool cut, const TileRect& tile, const SegmentShader& shade, int width,
+                                            std::vector<glm::vec4>& fb, std::vector<VicpDiagnostics>& diag) const
+{
+    const VicpCell& cell = fs.stream[slot];
+    // Pixels to test: the box of the cell's window positions, a pixel wider on each side than their float rounding
+    // could hide; a cell the view cuts (some of its points may lie behind the eye) tests its whole tile.
+    TileRect box = tile;
+    if (!cut) {
+        float x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+        for (uint32_t v : cell.v) {
+            x0 = std::min(x0, fs.win[v].x);
+            x1 = std::max(x1, fs.win[v].x);
+            y0 = std::min(y0, fs.win[v].y);
+            y1 = std::max(y1, fs.win[v].y);
+        }
+        box.px0 = std::max(box.px0, int(std::floor(x0)) - 1);
+        box.px1 = std::min(box.px1, int(std::ceil(x1)) + 1);
+        box.py0 = std::max(box.py0, int(std::floor(y0)) - 1);
+        box.py1 = std::min(box.py1, int(std::ceil(y1)) + 1);
+    }
+    const VicpTet tet = mesh_.constants(cell, mesh_.points_d());
+    for (int py = box.py0; py <= box.py1; ++py)
+        for (int px = box.px0; px <= box.px1; ++px) {
+            const VicpSegment seg = vicp_fragment_values(fc, tet, px, py);
+            // No length, or no exit (the ray lies in the plane of every face it could leave by; its length is then
+            // kVicpNoExit times the ray direction's length, which is near 1, against chords of a mesh's size): not
+            // crossed.
+            if (!(seg.t_out > seg.t_in) || !(seg.length < 1e-10 * kVicpNoExit)) continue;
+            const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
+            vicp_composite(fc, seg, fb[p], shade, &diag[p]);
+        }
 }
 
 VicpRenderer::VicpRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
@@ -96,8 +134,13 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
     std::vector<VicpDiagnostics> diag(npix);
 
     t0 = Clock::now();
+    const bool exact_coverage = mesh_.options().coverage == Coverage::exact;
     tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
         for (uint32_t slot : items) {
+            if (exact_coverage) {
+                composite_exact_coverage(fc, fs, slot, cut_index(slot) != kWholeCell, tile, shade, width, fb, diag);
+                continue;
+            }
             bool have_constants = false;
             VicpTet tet;
             // One triangle of the cell, rasterized, its fragments through the fragment program when it is front-facing

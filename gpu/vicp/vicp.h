@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "gpu/pipeline/tiles.h"
 #include "gpu/vicp/vicp_setup.h"
 #include "reference/image.h"
 
@@ -49,6 +50,10 @@ public:
 
 private:
     VicpMesh mesh_;
+
+    void composite_exact_coverage(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot, bool cut,
+                                  const TileRect& tile, const SegmentShader& shade, int width, std::vector<glm::vec4>& fb,
+                                  std::vector<VicpDiagnostics>& diag) const;
 };
 
 }  // namespace uvr::gpu

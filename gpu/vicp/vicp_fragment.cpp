@@ -46,7 +46,7 @@ VicpSegment vicp_fragment_values(const VicpFrameConstants& fc, const VicpTet& te
     // A face the ray runs along (|b| at rounding level: the ray lies in its plane, which the rasterizer's fill rule
     // decided) bounds nothing: its crossing -a / b would be rounding noise (kParallelFace).
     const double parallel = kParallelFace * ((std::fabs(b[0]) + std::fabs(b[1])) + (std::fabs(b[2]) + std::fabs(b[3])));
-    double t_in = 0.0, t_out = 1e300;
+    double t_in = 0.0, t_out = kVicpNoExit;
     for (int i = 0; i < 4; ++i) {
         if (!(std::fabs(b[i]) > parallel)) continue;
         const double t = -a[i] / b[i];

@@ -38,6 +38,8 @@ struct VicpSegment {
 inline constexpr double kParallelFace = 1e-12;
 
 VicpSegment vicp_fragment_values(const VicpFrameConstants& fc, const VicpTet& tet, int px, int py);
+// The exit parameter vicp_fragment_values starts from: it stays there when no face bounds the ray's way out.
+inline constexpr double kVicpNoExit = 1e300;
 
 
 // Per-pixel diagnostics: fragments that reached the program, and ordering errors: a segment that ends where the

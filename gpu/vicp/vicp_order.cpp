@@ -32,7 +32,9 @@ void centroid_cell_order(const std::vector<glm::vec3>& pts, const std::vector<Te
     });
     float lo = INFINITY;
     for (float k : keys) lo = std::min(lo, k);
-    for (float& k : keys) k = k - lo;  // exact order-preserving: k >= lo, so k - lo >= 0
+    // k - lo rounds, but rounding is monotone: keys keep their order (two that differ by less than the rounding may
+    // become equal, and the sort's stability then decides), and k >= lo gives k - lo >= 0 exactly.
+    for (float& k : keys) k = k - lo;
     std::vector<uint32_t> scratch;
     radix_sort_faces(keys, order, scratch);
 }

@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "gpu/pipeline/exact_coverage.h"
 #include "gpu/pipeline/segment.h"
 #include "gpu/vicp/vicp_clip.h"
 #include "gpu/vicp/vicp_fragment.h"
@@ -32,6 +33,7 @@ struct VicpOptions {
     TexelFormat table_format = TexelFormat::f32;
     double table_max_length = 0.0;  // 0: the mesh's longest edge
     TextureFilter filter = TextureFilter::linear;
+    Coverage coverage = Coverage::gpu;  // --coverage exact: a cell covers the pixels whose rays cross it (emulation)
 };
 
 class VicpMesh {
