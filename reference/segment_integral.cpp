@@ -76,51 +76,50 @@ double opacity_of_depth(double d)
     return d * r;
 }
 
-// Below this optical size S = A + |B| of a piece, integrate_linear_piece takes its colour weights 1 - J and J - e^{-T}
-// from their power series (thin_weights) instead of subtracting J, which loses all digits of the weights that the
-// difference from 1 does not hold: at a depth of 1e-9, 1 - J carries an absolute error of 1e-16, 1e-7 of its value.
-// At S = 1/8 the series needs 12 terms (S^11 / 12! < 3e-19 against a first term >= S / 3); above it 1 - J >= 0.04 and
-// J - e^{-T} >= 0.01, so the subtractions lose at most two digits.
-constexpr double kThinDepth = 0.125;
-constexpr int kThinTerms = 16;  // enough below kThinDepth with margin; the loop stops earlier
-// A series term below this fraction of its sum so far changes nothing (a tenth of double's ulp).
-constexpr double kThinNegligible = 1e-17;
+// Below this optical size S = A + |B| of a piece, integrate_linear_piece takes 1 - J from its power series
+// (thin_one_minus_j) instead of subtracting J from 1, which keeps only the digits the difference from 1 holds: J's
+// absolute error of ~1e-16 is 1e-7 of 1 - J at a depth of 1e-9. Above it 1 - J >= S / 3 > 5e-3, so the subtraction
+// costs at most 2e-14 relative; below it the series needs at most 7 terms.
+constexpr double kThinDepth = 1.0 / 64.0;
+constexpr int kThinTerms = 7;  // the most terms a piece below kThinDepth needs (thin_one_minus_j)
 
-// The colour weights of a thin piece: with f(u) = A u + B u^2 (the optical depth to the fraction u of the piece),
-//   w0 = 1 - J = int_0^1 (1 - e^{-f(u)}) du = sum_{n>=1} (-1)^{n+1} / n! I_n,
-//   w1 = J - e^{-T} = sum_{n>=1} (-1)^{n+1} / n! (T^n - I_n),
-// where I_n = int_0^1 f(u)^n du = sum_j C(n, j) A^{n-j} B^j / (n + j + 1) and T^n - I_n = sum_j C(n, j) A^{n-j} B^j
-// (n + j) / (n + j + 1): no difference of nearly equal values anywhere (A >= 0; B < 0 only with A + 2B >= 0, where the
-// j terms alternate with a ratio below 1/2). Derivation: docs/reference.md, "Thin pieces".
-void thin_weights(double A, double B, double& w0, double& w1)
+// 1 - J = int_0^1 (1 - e^{-f(u)}) du with f(u) = A u + B u^2 (the optical depth to the fraction u of the piece)
+//       = sum_{n>=1} (-1)^{n+1} / n! I_n,   I_n = int_0^1 f(u)^n du = sum_j C(n, j) A^{n-j} B^j / (n + j + 1).
+// No two nearly equal values are subtracted (A >= 0; B < 0 only with A + 2B >= 0, where the j terms alternate with a
+// ratio below 1/2). The coefficients (-1)^{n+1} C(n, j) / (n! (n + j + 1)) come from a table built once. Derivation:
+// docs/reference.md, "Thin pieces".
+double thin_one_minus_j(double A, double B)
 {
-    static const auto inv = [] {  // 1 / m for m <= 2 kThinTerms + 1
-        std::array<double, 2 * kThinTerms + 2> t{};
-        for (std::size_t m = 1; m < t.size(); ++m) t[m] = 1.0 / double(m);
-        return t;
+    static const auto coef = [] {
+        std::array<std::array<double, kThinTerms + 1>, kThinTerms + 1> c{};
+        double fact = 1.0;
+        for (int n = 1; n <= kThinTerms; ++n) {
+            fact *= n;
+            double binom = 1.0;
+            for (int j = 0; j <= n; ++j) {
+                c[std::size_t(n)][std::size_t(j)] = (n % 2 ? 1.0 : -1.0) * binom / (fact * double(n + j + 1));
+                binom = binom * double(n - j) / double(j + 1);
+            }
+        }
+        return c;
     }();
+    // Terms n = 1..N: the first one left out is below S^{N+1} / (N+1)!, which must stay under half an ulp of the
+    // sum (>= S / 3): S^N <= 4e-17 (N+1)!, i.e. S up to 1.5e-8, 9.9e-6, 2.6e-4, 1.9e-3, 7.7e-3 and 0.0207 for
+    // N = 2 .. 7 (kThinDepth < 0.0207).
+    const double S = A + std::fabs(B);
+    const int N = S <= 1.5e-8 ? 2 : S <= 9.9e-6 ? 3 : S <= 2.6e-4 ? 4 : S <= 1.9e-3 ? 5 : S <= 7.7e-3 ? 6 : 7;
     double pa[kThinTerms + 1], pb[kThinTerms + 1];
     pa[0] = pb[0] = 1.0;
-    w0 = w1 = 0.0;
-    double coef = 1.0;  // (-1)^{n+1} / n!
-    for (int n = 1; n <= kThinTerms; ++n) {
+    double w = 0.0;
+    for (int n = 1; n <= N; ++n) {
         pa[n] = pa[n - 1] * A;
         pb[n] = pb[n - 1] * B;
-        coef *= inv[std::size_t(n)];
-        double i0 = 0.0, i1 = 0.0, binom = 1.0;
-        for (int j = 0; j <= n; ++j) {
-            const double t = binom * pa[n - j] * pb[j];
-            const double r = inv[std::size_t(n + j + 1)];
-            i0 += t * r;
-            i1 += t * (double(n + j) * r);
-            binom = binom * double(n - j) * inv[std::size_t(j + 1)];
-        }
-        const double t0 = coef * i0, t1 = coef * i1;
-        w0 += t0;
-        w1 += t1;
-        if (std::fabs(t0) <= kThinNegligible * std::fabs(w0) && std::fabs(t1) <= kThinNegligible * std::fabs(w1)) break;
-        coef = -coef;
+        const auto& c = coef[std::size_t(n)];
+        double t = 0.0;
+        for (int j = 0; j <= n; ++j) t += c[std::size_t(j)] * (pa[n - j] * pb[j]);
+        w += t;
     }
+    return w;
 }
 
 }  // namespace
@@ -155,11 +154,13 @@ glm::dvec4 integrate_linear_piece(const glm::dvec3& c0, const glm::dvec3& c1, do
     // non-negative (J lies between e^{-T} and 1) and nothing cancels when the colour is constant.
     double w0, w1;
     if (A + std::fabs(B) < kThinDepth) {
-        thin_weights(A, B, w0, w1);
+        // w0 + w1 = 1 - e^{-T} = alpha: w1 from the two accurate values loses at most a factor 3 (w1 >= alpha / 3).
+        w0 = thin_one_minus_j(A, B);
+        w1 = alpha - w0;
     } else {
         const double J = depth_average_transmittance(A, B);
         w0 = 1.0 - J;
-        w1 = J - (1.0 - alpha);  // e^{-T} to an absolute 1e-16: a relative 1e-14 of w1 here
+        w1 = J - (1.0 - alpha);  // e^{-T} to an absolute 1e-16: at most 2e-13 of w1 here (w1 >= alpha / 3)
     }
     const glm::dvec3 c = c0 * w0 + c1 * w1;
     return {c.x, c.y, c.z, alpha};

@@ -68,6 +68,10 @@ KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& f, int 
 
 namespace {
 
+// The program's scratch on the stack holds this many entries (2 KiB, as before k was unbounded: the old limit of 255
+// plus the incoming fragment); a larger k takes a per-thread buffer.
+constexpr int kStackEntries = 256;
+
 bool real_entry(const KEntry& e) { return e.y > 0.0f && e.y < __builtin_inff(); }
 // The normalized scalar of an entry (see the entry encoding in havs_fragment.h).
 float decode_scalar(float x)
@@ -131,31 +135,42 @@ bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm
     // Find the entry with the smallest distance (r0); the others go to r1..rk. The seed's CMP: on t < 0 the running
     // minimum stays; otherwise (ties included) the stored entry becomes the minimum and the running one moves on, so
     // on a tie the entry already in the buffer is composited first.
-    // r is scratch for k + 1 entries, per thread, kept between calls: no call pays for allocating or initializing it.
-    thread_local std::vector<KEntry> scratch;
-    if (scratch.size() < std::size_t(k) + 1) scratch.resize(std::size_t(k) + 1);
-    KEntry* r = scratch.data();
-    r[0] = a0;
+    // r is scratch for k + 1 entries, plain floats (x and y apart, as the chains read the distances alone), so that
+    // no call pays for initializing them: on the stack up to kStackEntries, beyond that per thread, kept between calls.
+    float stack_x[kStackEntries], stack_y[kStackEntries];
+    float *rx = stack_x, *ry = stack_y;
+    if (k + 1 > kStackEntries) {
+        thread_local std::vector<float> heap;
+        if (heap.size() < 2 * (std::size_t(k) + 1)) heap.resize(2 * (std::size_t(k) + 1));
+        rx = heap.data();
+        ry = rx + k + 1;
+    }
+    rx[0] = a0.x;
+    ry[0] = a0.y;
     for (int i = 1; i <= k; ++i) {
-        const float t = r[0].y - a[i - 1].y;
+        const float t = ry[0] - a[i - 1].y;
         if (t < 0.0f) {
-            r[i] = a[i - 1];
+            rx[i] = a[i - 1].x;
+            ry[i] = a[i - 1].y;
         } else {
-            r[i] = r[0];
-            r[0] = a[i - 1];
+            rx[i] = rx[0];
+            ry[i] = ry[0];
+            rx[0] = a[i - 1].x;
+            ry[0] = a[i - 1].y;
         }
     }
     // The second smallest (r7 of the seed) among r1..rk, by the same chain; it stays in the buffer.
     int second_i = 1;
     for (int i = 2; i <= k; ++i) {
-        const float t = r[second_i].y - r[i].y;
+        const float t = ry[second_i] - ry[i];
         if (!(t < 0.0f)) second_i = i;
     }
-    if (composite_segment(fc, r[0], r[second_i], fb, shade, diag)) r[second_i].x = -r[second_i].x;
+    if (composite_segment(fc, KEntry{rx[0], ry[0]}, KEntry{rx[second_i], ry[second_i]}, fb, shade, diag))
+        rx[second_i] = -rx[second_i];
     // Write back r1..rk.
     uint32_t held = 0;
     for (int i = 1; i <= k; ++i) {
-        a[i - 1] = r[i];
+        a[i - 1] = KEntry{rx[i], ry[i]};
         held += real_entry(a[i - 1]) ? 1u : 0u;
     }
     if (diag && held > diag->max_held) diag->max_held = held;
