@@ -40,6 +40,37 @@ HavsFrameConstants frame(float threshold = 0.99f)
 
 KEntry frag(float s, float d, float side = 1.0f) { return {side * (1.0f + s), d}; }
 
+// An orthographic view of an 8 x 8 window onto eye-space x, y in [-1, 1].
+HavsFrameConstants ortho_frame()
+{
+    HavsFrameConstants fc;
+    fc.two_over_width = fc.two_over_height = 2.0 / 8.0;
+    fc.origin_x = fc.origin_y = 1.0;
+    return fc;
+}
+
+// A face perpendicular to the view axis at eye-space z = -4, over window [0, 16]^2 (the right triangle at the
+// origin), with the scalars 0, 1, 0: its scalar is window x / 16.
+HavsFace square_face()
+{
+    HavsFace f;
+    f.q[0] = {-1.0, -1.0, -4.0};
+    f.q[1] = {3.0, -1.0, -4.0};
+    f.q[2] = {-1.0, 3.0, -4.0};
+    f.v[0] = {0.0, 0.0};
+    f.v[1] = {16.0, 0.0};
+    f.v[2] = {0.0, 16.0};
+    for (int j = 0; j < 3; ++j) {
+        f.fx[j] = int32_t((f.v[j].x - 0.5) * 256);
+        f.fy[j] = int32_t((f.v[j].y - 0.5) * 256);
+        f.inv_w[j] = 1.0;
+    }
+    f.s[0] = 0.0;
+    f.s[1] = 1.0;
+    f.s[2] = 0.0;
+    return f;
+}
+
 }  // namespace
 
 TEST_CASE("k-buffer keeps the nearest entry on a tie")
@@ -170,25 +201,8 @@ TEST_CASE("fragment values: a face's distance and scalar at a pixel centre")
 {
     // A face perpendicular to the view axis at distance 4, seen by an orthographic camera (eye-space z = -4): every
     // pixel inside it gets distance 4, and the scalar interpolates linearly in window x.
-    HavsFrameConstants fc;
-    fc.two_over_width = 2.0 / 8.0;
-    fc.two_over_height = 2.0 / 8.0;
-    fc.origin_x = fc.origin_y = 1.0;
-    HavsFace f;
-    f.q[0] = {-1.0, -1.0, -4.0};
-    f.q[1] = {3.0, -1.0, -4.0};
-    f.q[2] = {-1.0, 3.0, -4.0};
-    f.v[0] = {0.0, 0.0};
-    f.v[1] = {16.0, 0.0};
-    f.v[2] = {0.0, 16.0};
-    for (int j = 0; j < 3; ++j) {
-        f.fx[j] = int32_t((f.v[j].x - 0.5) * 256);
-        f.fy[j] = int32_t((f.v[j].y - 0.5) * 256);
-        f.inv_w[j] = 1.0;
-    }
-    f.s[0] = 0.0;
-    f.s[1] = 1.0;
-    f.s[2] = 0.0;
+    const HavsFrameConstants fc = ortho_frame();
+    HavsFace f = square_face();
     const KEntry e = havs_fragment_entry(fc, f, 3, 2);  // pixel centre (3.5, 2.5): ndc (-0.125, -0.375)
     CHECK(e.y == Approx(4.0).epsilon(1e-6));
     CHECK(e.x == Approx(1.0 + 3.5 / 16.0).epsilon(1e-6));
@@ -202,24 +216,8 @@ TEST_CASE("an extrapolated scalar below 0 keeps its fragment's kind: clamped to 
     // outside the face by a weight of -1/32 (within kOutsideTolerance: the plane is extrapolated), where the scalar
     // is -1/32. Unclamped, the extrapolated fragment's x = 4 (1 - 1/32) = 3.875 would decode as an interior fragment
     // with scalar 2.875, and an entry face's 16 (1 - 1/32) = 15.5 as no entry face.
-    HavsFrameConstants fc;
-    fc.two_over_width = fc.two_over_height = 2.0 / 8.0;
-    fc.origin_x = fc.origin_y = 1.0;
-    HavsFace f;
-    f.q[0] = {-1.0, -1.0, -4.0};
-    f.q[1] = {3.0, -1.0, -4.0};
-    f.q[2] = {-1.0, 3.0, -4.0};
-    f.v[0] = {0.0, 0.0};
-    f.v[1] = {16.0, 0.0};
-    f.v[2] = {0.0, 16.0};
-    for (int j = 0; j < 3; ++j) {
-        f.fx[j] = int32_t((f.v[j].x - 0.5) * 256);
-        f.fy[j] = int32_t((f.v[j].y - 0.5) * 256);
-        f.inv_w[j] = 1.0;
-    }
-    f.s[0] = 0.0;
-    f.s[1] = 1.0;
-    f.s[2] = 0.0;
+    const HavsFrameConstants fc = ortho_frame();
+    HavsFace f = square_face();
     const FragmentValues v = havs_fragment_values(fc, f, -1, 2);
     REQUIRE(v.outside);
     REQUIRE_FALSE(v.snapped);
