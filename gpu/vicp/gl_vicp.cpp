@@ -129,17 +129,9 @@ VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
     const GlFunctions& gl = ctx_.gl();
     VicpFrame out;
     VicpStats& st = out.stats;
-    st.table_ms = mesh_.table_ms();
-    st.cells = mesh_.mesh().tets.size();
-
     const VicpFrameSetup fs = setup_vicp_frame(mesh_, cam, width, height);
     const std::vector<VicpCell>& stream = fs.stream;
-    st.drawn_cells = stream.size();
-    st.order = fs.order_stats;
-    st.sort_ms = fs.sort_ms;
-    st.project_ms = fs.project_ms;
-
-    store_clip_stats(fs, st);
+    store_setup_stats(mesh_, fs, st);
 
     auto t0 = Clock::now();
     // The frame's vertex buffer (with the clip stage's vertices) is read at any index by every draw.

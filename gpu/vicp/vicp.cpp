@@ -36,8 +36,14 @@ void store_vicp_frame(const std::vector<glm::vec4>& colour, const std::vector<Vi
     });
 }
 
-void store_clip_stats(const VicpFrameSetup& fs, VicpStats& st)
+void store_setup_stats(const VicpMesh& vm, const VicpFrameSetup& fs, VicpStats& st)
 {
+    st.table_ms = vm.table_ms();
+    st.cells = vm.mesh().tets.size();
+    st.drawn_cells = fs.stream.size();
+    st.order = fs.order_stats;
+    st.sort_ms = fs.sort_ms;
+    st.project_ms = fs.project_ms;
     st.clipped_cells = fs.clipped_cells;
     st.culled_cells = fs.culled_cells;
     st.near_sections = fs.near_sections;
@@ -92,18 +98,11 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
 {
     VicpFrame out;
     VicpStats& st = out.stats;
-    st.table_ms = mesh_.table_ms();
-    st.cells = mesh_.mesh().tets.size();
-
     const VicpFrameSetup fs = setup_vicp_frame(mesh_, cam, width, height);
     const VicpFrameConstants& fc = fs.constants;
     const std::vector<WindowCoord>& win = fs.win;
     const std::vector<VicpCell>& stream = fs.stream;
-    st.drawn_cells = stream.size();
-    st.order = fs.order_stats;
-    st.sort_ms = fs.sort_ms;
-    st.project_ms = fs.project_ms;
-    store_clip_stats(fs, st);
+    store_setup_stats(mesh_, fs, st);
     const Framebuffer fbuf{width, height, RenderTarget::fbo};
 
     // Bin the stream's cells into screen tiles by the bounding boxes of the points they are drawn with: their four

@@ -38,8 +38,9 @@ struct VicpFrame {
 void store_vicp_frame(const std::vector<glm::vec4>& colour, const std::vector<VicpDiagnostics>& diagnostics, int width,
                       int height, VicpFrame& out);
 
-// The clip stage's counts of `fs` into `st`, for both backends.
-void store_clip_stats(const VicpFrameSetup& fs, VicpStats& st);
+// The CPU stage's statistics of the frame `fs` of `vm` (cells, order, times, the clip stage's counts) into `st`, for
+// both backends.
+void store_setup_stats(const VicpMesh& vm, const VicpFrameSetup& fs, VicpStats& st);
 
 class VicpRenderer {
 public:
