@@ -131,6 +131,7 @@ TriangleSetup setup_triangle(const WindowCoord v[3], const Framebuffer& fb)
     // triangle_both: a clockwise triangle is turned counter-clockwise by swapping vertices 0 and 1
     // (rotate_fixed_position_01, since flatshade_first is false under GL's default last-vertex convention). The edges
     // are then the same three lines traversed the other way, so the covered set does not depend on the input order.
+    s.swap01 = !llvmpipe_ccw;
     if (!llvmpipe_ccw) {
         std::swap(x[0], x[1]);
         std::swap(y[0], y[1]);

@@ -75,6 +75,9 @@ struct TriangleSetup {
     // llvmpipe's bounding box in setup-space pixels (inclusive), clipped to the framebuffer; empty when x0 > x1 or
     // y0 > y1. Every covered pixel lies inside it (checked by the tests against rasterize_triangle_reference).
     int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+    // Whether llvmpipe swapped vertices 0 and 1 to make the triangle counter-clockwise in its own terms (a positive
+    // fixed-point area): the order its attribute setup then sees (gpu/pipeline/interpolation.h).
+    bool swap01 = false;
     bool empty() const { return facing == Facing::none || x0 > x1 || y0 > y1; }
 };
 
