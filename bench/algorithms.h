@@ -29,6 +29,9 @@ struct AlgoOptions {
     std::string gaps = "exact";
     std::string order = "mpvonc";  // VICP's cell order
     std::string coverage = "gpu";  // HAVS and VICP: gpu (the rasterizer's) | exact (emulation only)
+    // gpu (the rasterizer's interpolated varyings: the seed's pipeline) | exact (double from the pixel's ray). Empty:
+    // the algorithm's default (HAVS gpu; VICP and the ray caster exact, their only mode until issue 25).
+    std::string interpolation;
     double threshold = -1.0;  // per algorithm default (SPEC §3): HAVS 0.99
     int table_size = 128;
     std::string table_format = "f32";

@@ -4,6 +4,7 @@
 //   HAVS_TARGETS       the k-buffer's colour attachments, (HAVS_K + 1) / 2: two entries (x, y) a texel, as in the seed
 //   HAVS_PASS_FLUSH    for the flush pass (a full-screen triangle, k runs a pixel); absent for the geometry pass
 //   HAVS_DIAGNOSTICS   when the per-pixel diagnostics go to one more attachment
+//   HAVS_SEED_VARYINGS --interpolation gpu: the fragment values from the interpolated varyings (havs_seed_entry)
 //
 // Read-modify-write of the k-buffer. The seed reads its k-buffer as textures bound to the very targets it renders
 // into, which GL leaves undefined once two fragments of one draw hit the same pixel. Here every attachment is an
@@ -18,6 +19,13 @@
 // clear value or the result of arithmetic, which llvmpipe flushes to zero.) The reason is speed: a shader that can
 // discard costs llvmpipe about 150 ms more on a Blunt Fin frame (512 x 512, k = 6: 0.65 s against 0.49 s, same run;
 // docs/gl-backend.md, "Speed").
+
+#if defined(HAVS_SEED_VARYINGS) && !defined(HAVS_PASS_FLUSH)
+smooth in vec3 havs_eye_position;  // the seed's texture coordinate 1
+smooth in float havs_eye_scalar;   // the seed's texture coordinate 0
+flat in float havs_face_side;
+noperspective in vec3 havs_corner;
+#endif
 
 layout(location = 0) inout vec4 havs_color;
 layout(location = 1) inout vec4 havs_entries[HAVS_TARGETS];
@@ -43,6 +51,12 @@ void main()
     // Each pixel sees the same k runs in the same order as from k passes of one run each (the emulation's loop in
     // gpu/havs/havs.cpp), with one fetch and one store of the attachments instead of k.
     for (int run = 0; run < HAVS_K; ++run) havs_kbuffer(vec2(-1.0, uintBitsToFloat(0x7f800000u)), a, fb);
+#elif defined(HAVS_SEED_VARYINGS)
+    // --interpolation gpu: the seed's fragment program on the rasterizer's varyings; the side as below.
+    float side = havs_face_side;
+    if (side < 0.0 && gl_FrontFacing) side = havs_side_entry;
+    side = havs_seed_side(side, havs_corner);
+    havs_kbuffer(havs_seed_entry(havs_eye_position, havs_eye_scalar, side), a, fb);
 #else
     // The face's constants, in sorted order (gl_PrimitiveID counts the draw's triangles). A boundary face arrives with
     // side -1 (an exit) and stays one only when the rasterizer sees it back-facing; front-facing, it is an entry.

@@ -133,6 +133,38 @@ dvec2 havs_fragment_values(HavsFace f, ivec2 pix)
     return dvec2(x, distance);
 }
 
+// havs_seed_entry (--interpolation gpu): the seed's fragment values from the interpolated varyings, float32: the
+// distance by DP3, RSQ, MUL (the dot product written in the order llvmpipe's lowering of dot() gives it, every result
+// precise), or -e.z under an orthographic view; the entry side * (1 + s), s clamped as above.
+uniform int havs_orthographic;
+
+// havs_seed_side: an interior face's fragment whose pixel centre lies outside its triangle (a corner weight below 0:
+// covered through snapping) takes the side kSideOutside, as havs_fragment_values gives it.
+float havs_seed_side(float side, vec3 corner)
+{
+    bool outside = corner.x < 0.0 || corner.y < 0.0 || corner.z < 0.0;
+    return side == 1.0 && outside ? havs_side_outside : side;
+}
+
+vec2 havs_seed_entry(vec3 e, float s_in, float side)
+{
+    precise float distance;
+    if (havs_orthographic != 0) {
+        distance = -e.z;
+    } else {
+        precise float zz = e.z * e.z;
+        precise float yy = e.y * e.y;
+        precise float xx = e.x * e.x;
+        precise float t = (zz + yy) + xx;
+        precise float rsq = inversesqrt(t);
+        distance = t * rsq;
+    }
+    precise float s = s_in < 0.0 ? 0.0 : s_in > 1.0 ? 1.0 : s_in;
+    precise float one_plus_s = 1.0 + s;
+    precise float x = side * one_plus_s;
+    return vec2(x, distance);
+}
+
 // havs_fragment_entry: the incoming fragment's entry as the k-buffer stores it, float32.
 vec2 havs_fragment_entry(HavsFace f, ivec2 pix)
 {

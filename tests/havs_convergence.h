@@ -28,17 +28,19 @@ inline gpu::HavsOptions exact_havs_options(int k)
     return o;
 }
 
-// HAVS's frame with exact segments and k = kConvergenceK, and the reference's.
+// HAVS's frame (by default exact segments and k = kConvergenceK, the seed's interpolation and coverage), and the
+// reference's.
 struct HavsAndReference {
     gpu::HavsFrame havs;
     Image reference;
     ImageErrors errors;
 };
 
-inline HavsAndReference havs_and_reference(const Scene& s, const Camera& cam, int width, int height)
+inline HavsAndReference havs_and_reference(const Scene& s, const Camera& cam, int width, int height,
+                                           const gpu::HavsOptions& options = exact_havs_options(kConvergenceK))
 {
     HavsAndReference r;
-    const gpu::HavsRenderer havs(s.mesh, s.topo, s.field, s.tf, exact_havs_options(kConvergenceK));
+    const gpu::HavsRenderer havs(s.mesh, s.topo, s.field, s.tf, options);
     r.havs = havs.render(cam, width, height);
     const RayIntegrator ri(s.mesh, s.topo, s.field, s.tf);
     ReferenceStats rs;

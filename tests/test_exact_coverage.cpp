@@ -150,6 +150,7 @@ TEST_CASE("with exact coverage and every other switch exact, HAVS and VICP equal
 
             HavsOptions ho = test::exact_havs_options(test::kConvergenceK);
             ho.coverage = Coverage::exact;
+            ho.interpolation = InterpolationMode::exact;
             const HavsFrame h = HavsRenderer(s.mesh, s.topo, s.field, s.tf, ho).render(cam, size, size);
             REQUIRE(h.stats.max_fragments <= uint32_t(test::kConvergenceK));
             const test::ImageErrors eh = test::image_errors(h.image, ref, kExactMax);

@@ -37,11 +37,13 @@ FrameDiff diff(const HavsFrame& gl, const HavsFrame& emu)
 
 // Renders `cam` with both backends at every k of `ks` and requires bit identity.
 void require_identical(const Scene& s, const Camera& cam, int width, int height, std::initializer_list<int> ks,
-                       bool diagnostics = true, GlContext& ctx = osmesa(), std::size_t faces_per_draw = 0)
+                       bool diagnostics = true, GlContext& ctx = osmesa(), std::size_t faces_per_draw = 0,
+                       InterpolationMode interpolation = InterpolationMode::gpu)
 {
     for (int k : ks) {
         HavsOptions o;
         o.k = k;
+        o.interpolation = interpolation;
         const HavsFrame emu = HavsRenderer(s.mesh, s.topo, s.field, s.tf, o).render(cam, width, height);
         GlHavsRenderer gl(ctx, s.mesh, s.topo, s.field, s.tf, o, diagnostics);
         gl.set_faces_per_draw(faces_per_draw);
@@ -97,6 +99,15 @@ TEST_CASE("the GL HAVS frame equals the emulated frame bit for bit")
     {
         const Scene s = test::oxygen_post();
         require_identical(s, default_camera(mesh_bounds(s.mesh), 1.0, 0.0, 0.0), 192, 256, {6}, true, osmesa(), 100000);
+    }
+    SECTION("--interpolation exact: the flat per-face constants in double")
+    {
+        const Scene torus = test::make_scene(load_builtin("builtin:torus-small"), 0);
+        require_identical(torus, default_camera(mesh_bounds(torus.mesh), 1.0, 35.0, 40.0), 160, 120, {1, 6}, true,
+                          osmesa(), 0, InterpolationMode::exact);
+        const Scene bf = test::blunt_fin();
+        require_identical(bf, default_camera(mesh_bounds(bf.mesh), 1.0, -40.0, 70.0), 256, 192, {6}, true, osmesa(), 0,
+                          InterpolationMode::exact);
     }
     SECTION("k = 14: every draw buffer holds entries (no diagnostics)")
     {

@@ -1,6 +1,7 @@
 #include "gpu/havs/gl_havs.h"
 
 #include <algorithm>
+#include <cstddef>
 #include <chrono>
 #include <string>
 #include <vector>
@@ -31,13 +32,22 @@ int entry_targets(int k) { return (k + 1) / 2; }
 // Fin, 512 x 512: 0.69-0.73 s with 128, 16 or 8 MiB). docs/results.md, "Memory".
 constexpr std::size_t kFaceBytesPerDraw = std::size_t(16) << 20;
 
+// --interpolation gpu: what the seed's vertex program reads per vertex. The vertices are not shared (a face's three
+// carry its side, a per-face attribute), so a triangle sends 3 x 20 bytes.
+struct SeedVertex {
+    float position[3];
+    float scalar;
+    float side;
+};
+static_assert(sizeof(SeedVertex) == 20);
+
 }  // namespace
 
 struct GlHavsRenderer::Objects {
     const GlFunctions& gl;
     std::unique_ptr<GlProgram> geometry, flush;
-    GLuint mesh_vao = 0, empty_vao = 0;
-    GLuint vertex_buffer = 0, element_buffer = 0, face_buffer = 0;
+    GLuint mesh_vao = 0, empty_vao = 0, seed_vao = 0;
+    GLuint vertex_buffer = 0, element_buffer = 0, face_buffer = 0, seed_buffer = 0;
     GLuint table_texture = 0, face_texture = 0;
     std::unique_ptr<GlFloatFramebuffer> framebuffer;  // colour, k-buffer targets, diagnostics
 
@@ -47,10 +57,10 @@ struct GlHavsRenderer::Objects {
         framebuffer.reset();
         geometry.reset();
         flush.reset();
-        const GLuint buffers[] = {vertex_buffer, element_buffer, face_buffer};
-        gl.DeleteBuffers(3, buffers);
-        const GLuint vaos[] = {mesh_vao, empty_vao};
-        gl.DeleteVertexArrays(2, vaos);
+        const GLuint buffers[] = {vertex_buffer, element_buffer, face_buffer, seed_buffer};
+        gl.DeleteBuffers(4, buffers);
+        const GLuint vaos[] = {mesh_vao, empty_vao, seed_vao};
+        gl.DeleteVertexArrays(3, vaos);
         if (table_texture) gl.DeleteTextures(1, &table_texture);
         if (face_texture) gl.DeleteTextures(1, &face_texture);
     }
@@ -108,8 +118,15 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     if (diagnostics_) defines.push_back({"HAVS_DIAGNOSTICS", "1"});
     const std::vector<std::string> extensions = {kFramebufferFetch};
     const std::vector<std::string> files = {"preintegration_table.frag", "havs_fragment.frag", "havs.frag"};
-    gl_->geometry = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"clip_position.vert", "havs_vertex.vert"}, {}, {}},
-                                                GlShaderSource{files, defines, extensions});
+    const bool seed = mesh_.options().interpolation == InterpolationMode::gpu;
+    std::vector<std::pair<std::string, std::string>> geometry_defines = defines, vertex_defines;
+    if (seed) {
+        geometry_defines.push_back({"HAVS_SEED_VARYINGS", "1"});
+        vertex_defines.push_back({"HAVS_SEED_VARYINGS", "1"});
+    }
+    gl_->geometry = std::make_unique<GlProgram>(
+        ctx_, GlShaderSource{{"clip_position.vert", "havs_vertex.vert"}, vertex_defines, {}},
+        GlShaderSource{files, geometry_defines, extensions});
     defines.push_back({"HAVS_PASS_FLUSH", "1"});
     gl_->flush = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"fullscreen.vert"}, {}, {}},
                                              GlShaderSource{files, defines, extensions});
@@ -125,6 +142,17 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     gl.EnableVertexAttribArray(0);
     gl.GenBuffers(1, &gl_->element_buffer);
     gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, gl_->element_buffer);
+    // --interpolation gpu: the stream of unshared vertices (SeedVertex), filled per draw.
+    gl.GenVertexArrays(1, &gl_->seed_vao);
+    gl.BindVertexArray(gl_->seed_vao);
+    gl.GenBuffers(1, &gl_->seed_buffer);
+    gl.BindBuffer(GL_ARRAY_BUFFER, gl_->seed_buffer);
+    gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(SeedVertex), nullptr);
+    gl.VertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, sizeof(SeedVertex),
+                           reinterpret_cast<const void*>(offsetof(SeedVertex, scalar)));
+    gl.VertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, sizeof(SeedVertex),
+                           reinterpret_cast<const void*>(offsetof(SeedVertex, side)));
+    for (GLuint a = 0; a < 3; ++a) gl.EnableVertexAttribArray(a);
     gl.BindVertexArray(0);
     gl.GenBuffers(1, &gl_->face_buffer);
     gl.GenTextures(1, &gl_->face_texture);
@@ -158,10 +186,13 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     store_clip_stats(fs, st);
     auto t0 = Clock::now();
     const std::size_t ntris = fs.draw.size();
-    gl.BindVertexArray(gl_->mesh_vao);
-    gl.BindBuffer(GL_ARRAY_BUFFER, gl_->vertex_buffer);
-    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(fs.points_f.size() * sizeof(glm::vec3)), fs.points_f.data(),
-                  GL_STREAM_DRAW);
+    const bool seed = mesh_.options().interpolation == InterpolationMode::gpu;
+    if (!seed) {  // --interpolation exact: the shared vertices, drawn by index (the seed's stream is per draw, below)
+        gl.BindVertexArray(gl_->mesh_vao);
+        gl.BindBuffer(GL_ARRAY_BUFFER, gl_->vertex_buffer);
+        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(fs.points_f.size() * sizeof(glm::vec3)), fs.points_f.data(),
+                      GL_STREAM_DRAW);
+    }
 
     gl_->framebuffer->bind(width, height);
     gl.Disable(GL_BLEND);
@@ -180,6 +211,7 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     };
     use(*gl_->geometry);
     gl.UniformMatrix4fv(gl_->geometry->uniform("havs_mvp", true), 1, GL_FALSE, &fs.view.mvp[0][0]);
+    if (seed) gl.UniformMatrix4fv(gl_->geometry->uniform("havs_mv", true), 1, GL_FALSE, &fs.view.view[0][0]);
     ctx_.check_error("preparing the HAVS geometry pass");
     st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
 
@@ -187,10 +219,35 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     // draws, so the pixels see the same sequence as from one draw). Each draw's face constants and vertex indices are
     // built and uploaded just before it: neither the CPU nor Mesa holds more than a few chunks of them.
     const std::size_t chunk = faces_per_draw();
-    std::vector<GlHavsFace> records(std::min(chunk, ntris));
+    if (seed) {
+        // --interpolation gpu: each triangle's three vertices with the seed's attributes, drawn in order.
+        std::vector<SeedVertex> stream(3 * std::min(chunk, ntris));
+        gl.BindVertexArray(gl_->seed_vao);
+        gl.BindBuffer(GL_ARRAY_BUFFER, gl_->seed_buffer);
+        for (std::size_t c0 = 0; c0 < ntris; c0 += chunk) {
+            const std::size_t n = std::min(chunk, ntris - c0);
+            t0 = Clock::now();
+            tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+                const uint32_t id = fs.draw[c0 + i];
+                const uint32_t* v = fs.triangle(mesh_, id);
+                const float side = havs_face_side(mesh_, fs, id);
+                for (std::size_t j = 0; j < 3; ++j) {
+                    const glm::vec3& p = fs.points_f[v[j]];
+                    stream[3 * i + j] = SeedVertex{{p.x, p.y, p.z}, fs.s_f[v[j]], side};
+                }
+            });
+            gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(3 * n * sizeof(SeedVertex)), stream.data(), GL_STREAM_DRAW);
+            st.setup_ms += ms_since(t0);
+            t0 = Clock::now();
+            gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(3 * n));
+            st.raster_fragment_ms += ms_since(t0);
+            ++st.draws;
+        }
+    }
+    std::vector<GlHavsFace> records(seed ? 0 : std::min(chunk, ntris));
     std::vector<uint32_t> indices(3 * records.size());
     gl.BindBuffer(GL_TEXTURE_BUFFER, gl_->face_buffer);
-    for (std::size_t c0 = 0; c0 < ntris; c0 += chunk) {
+    for (std::size_t c0 = 0; c0 < (seed ? 0 : ntris); c0 += chunk) {
         const std::size_t n = std::min(chunk, ntris - c0);
         t0 = Clock::now();
         tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {

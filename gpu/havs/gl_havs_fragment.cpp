@@ -40,6 +40,7 @@ void set_havs_frame_uniforms(const GlContext& ctx, const GlProgram& program, con
     gl.Uniform1f(program.uniform("havs_length_scale"), fc.length_scale);
     gl.Uniform1f(program.uniform("havs_length_bias"), fc.length_bias);
     gl.Uniform1f(program.uniform("havs_max_gap"), fc.max_gap);
+    gl.Uniform1i(program.uniform("havs_orthographic"), fc.orthographic ? 1 : 0);
     ctx.check_error("setting the HAVS frame uniforms");
 }
 

@@ -125,36 +125,59 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     std::vector<KBufferDiagnostics> diag(npix);
     const bool exact_coverage = mesh_.options().coverage == Coverage::exact;
 
+    const bool seed_varyings = mesh_.options().interpolation == InterpolationMode::gpu;
+    const ViewportArithmetic arith = host_viewport_arithmetic();
+
     t0 = Clock::now();
     tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
         for (uint32_t i : items) {
             const uint32_t id = fs.draw[i];
             const uint32_t* v = fs.triangle(mesh_, id);
-            const auto fragment = [&](const HavsFace& face, int px, int py) {
-                const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
-                const KEntry e = havs_fragment_entry(fc, face, px, py, exact_coverage);
-                havs_kbuffer(fc, e, &kbuf[p * std::size_t(k)], k, fb[p], shade, &diag[p]);
-            };
-            // Flat per-face constants, in double, rounded once (what the CPU uploads). A boundary face is oriented
-            // outward, so it is an exit face when the rasterizer sees it back-facing (clockwise in window coordinates:
-            // gl_FrontFacing false) and an entry face otherwise. The facing comes from the coverage's own area (the
-            // rasterizer's snapped one, or the exact one), so it agrees with the fragments even for slivers.
+            // Coverage: the rasterizer's (snapped) or the exact one. A boundary face is oriented outward, so it is an
+            // exit face when the rasterizer sees it back-facing (clockwise in window coordinates: gl_FrontFacing
+            // false) and an entry face otherwise. The facing comes from the coverage's own area (the rasterizer's
+            // snapped one, or the exact one), so it agrees with the fragments even for slivers.
+            const WindowCoord wv[3] = {win[v[0]], win[v[1]], win[v[2]]};
+            TriangleSetup ts = setup_triangle(wv, fbuf);
+            ExactTriangle et;
+            Facing facing = ts.facing;
             if (exact_coverage) {
                 const glm::dvec2 p[3] = {{fs.win_d[v[0]].x, fs.win_d[v[0]].y}, {fs.win_d[v[1]].x, fs.win_d[v[1]].y},
                                          {fs.win_d[v[2]].x, fs.win_d[v[2]].y}};
-                const ExactTriangle et = exact_triangle(p, v);
+                et = exact_triangle(p, v);
                 if (et.empty()) continue;
-                HavsFace face = havs_face_constants(mesh_, fs, id);
-                if (face.side == kSideExit && et.facing != Facing::back) face.side = kSideEntry;
-                for_each_exact_fragment_in_tile(et, tile, [&](int px, int py) { fragment(face, px, py); });
+                facing = et.facing;
+                // A triangle the rasterizer would drop (zero snapped area) still needs an order for its planes: the
+                // one llvmpipe gives a triangle of this facing in an FBO (front faces have a negative area there).
+                if (ts.facing == Facing::none) ts.swap01 = facing == Facing::front;
+            } else if (ts.empty()) {
                 continue;
             }
-            const WindowCoord wv[3] = {win[v[0]], win[v[1]], win[v[2]]};
-            const TriangleSetup ts = setup_triangle(wv, fbuf);
-            if (ts.empty()) continue;
+            const auto visit = [&](auto&& fragment) {
+                if (exact_coverage)
+                    for_each_exact_fragment_in_tile(et, tile, fragment);
+                else
+                    for_each_fragment_in_tile(ts, tile, fragment);
+            };
+            const auto apply = [&](const KEntry& e, int px, int py) {
+                const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
+                havs_kbuffer(fc, e, &kbuf[p * std::size_t(k)], k, fb[p], shade, &diag[p]);
+            };
+            if (seed_varyings) {
+                // --interpolation gpu: the seed's varyings through the interpolation stage, the side a flat attribute.
+                float side = havs_face_side(mesh_, fs, id);
+                if (side == kSideExit && facing != Facing::back) side = kSideEntry;
+                const SetupVertex sv[3] = {fs.setup_v[v[0]], fs.setup_v[v[1]], fs.setup_v[v[2]]};
+                const glm::vec3 eye[3] = {fs.eye_f[v[0]], fs.eye_f[v[1]], fs.eye_f[v[2]]};
+                const float s[3] = {fs.s_f[v[0]], fs.s_f[v[1]], fs.s_f[v[2]]};
+                const HavsVaryingPlanes planes = havs_varying_planes(sv, eye, s, side, ts);
+                visit([&](int px, int py) { apply(havs_seed_entry(fc, havs_varyings_at(planes, px, py, arith)), px, py); });
+                continue;
+            }
+            // --interpolation exact: flat per-face constants, in double, rounded once (what the CPU uploads).
             HavsFace face = havs_face_constants(mesh_, fs, id);
-            if (face.side == kSideExit && ts.facing != Facing::back) face.side = kSideEntry;
-            for_each_fragment_in_tile(ts, tile, [&](int px, int py) { fragment(face, px, py); });
+            if (face.side == kSideExit && facing != Facing::back) face.side = kSideEntry;
+            visit([&](int px, int py) { apply(havs_fragment_entry(fc, face, px, py, exact_coverage), px, py); });
         }
     });
     st.raster_fragment_ms = ms_since(t0);

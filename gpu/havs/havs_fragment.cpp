@@ -66,6 +66,58 @@ KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& f, int 
     return {float(v.x), float(v.distance)};
 }
 
+HavsVaryingPlanes havs_varying_planes(const SetupVertex sv[3], const glm::vec3 eye[3], const float s[3], float side,
+                                      const TriangleSetup& ts)
+{
+    HavsVaryingPlanes p;
+    p.setup = setup_attributes(sv, ts);
+    for (int c = 0; c < 3; ++c) {
+        const float value[3] = {eye[0][c], eye[1][c], eye[2][c]};
+        p.eye[c] = attribute_plane(p.setup, sv, value, Qualifier::smooth);
+    }
+    p.s = attribute_plane(p.setup, sv, s, Qualifier::smooth);
+    for (int c = 0; c < 3; ++c) {
+        const float corner[3] = {c == 0 ? 1.0f : 0.0f, c == 1 ? 1.0f : 0.0f, c == 2 ? 1.0f : 0.0f};
+        p.corner[c] = attribute_plane(p.setup, sv, corner, Qualifier::noperspective);
+    }
+    p.side = side;
+    return p;
+}
+
+HavsVaryings havs_varyings_at(const HavsVaryingPlanes& p, int px, int py, ViewportArithmetic arith)
+{
+    const float factor = perspective_factor(p.setup, px, py, arith);
+    HavsVaryings v;
+    for (int c = 0; c < 3; ++c) v.eye[c] = interpolate(p.eye[c], Qualifier::smooth, px, py, factor, arith);
+    v.s = interpolate(p.s, Qualifier::smooth, px, py, factor, arith);
+    bool outside = false;
+    for (int c = 0; c < 3; ++c) outside = outside || interpolate(p.corner[c], Qualifier::noperspective, px, py, factor, arith) < 0.0f;
+    v.side = p.side == kSideInterior && outside ? kSideOutside : p.side;
+    return v;
+}
+
+KEntry havs_seed_entry(const HavsFrameConstants& fc, const HavsVaryings& v)
+{
+    // DP3 t, e, e: llvmpipe lowers the dot product to ((z * z) + (y * y)) + (x * x), unfused (lower_fdot splits it
+    // from the last component; lower_ffma32 keeps multiply and add apart: docs/havs-seed-research.md), and the shader
+    // writes it in that order. RSQ: inversesqrt is 1 / sqrt(t), two roundings (lp_build_rsqrt's estimate is compiled
+    // out). MUL: t * rsq(t) = |e|.
+    float distance;
+    if (fc.orthographic) {
+        distance = -v.eye.z;
+    } else {
+        const float zz = v.eye.z * v.eye.z, yy = v.eye.y * v.eye.y, xx = v.eye.x * v.eye.x;
+        const float t = (zz + yy) + xx;
+        const float root = std::sqrt(t);
+        const float rsq = 1.0f / root;
+        distance = t * rsq;
+    }
+    // The scalar clamped as in havs_fragment_values (comparisons: a NaN stays NaN), then side * (1 + s) in float.
+    const float s = v.s < 0.0f ? 0.0f : v.s > 1.0f ? 1.0f : v.s;
+    const float one_plus_s = 1.0f + s;
+    return KEntry{v.side * one_plus_s, distance};
+}
+
 namespace {
 
 // The program's scratch on the stack holds this many entries (2 KiB, as before k was unbounded: the old limit of 255

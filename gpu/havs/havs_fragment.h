@@ -14,6 +14,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "gpu/pipeline/interpolation.h"
 #include "gpu/pipeline/segment.h"
 
 namespace uvr::gpu {
@@ -34,6 +35,7 @@ struct HavsFrameConstants {
     float threshold = 0.99f;                 // the opacity kill (KIL 0.99 - alpha)
     float length_scale = 0.0f, length_bias = 0.0f;  // the seed's sz.z and sz.w
     float max_gap = 0.0f;  // segments longer than this contribute nothing (the longest edge; 0 = no limit)
+    bool orthographic = false;  // --interpolation gpu: the distance along parallel rays is -z (havs_seed_entry)
 };
 
 // Per-face constants (flat), computed by the CPU stage (havs_setup.cpp) in double. The window coordinates stay
@@ -89,6 +91,33 @@ FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace
 KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& face, int px, int py,
                            bool covered_exactly = false);
 
+// --interpolation gpu (the seed's pipeline, SPEC §7): what the seed's fragment program receives, as the rasterizer
+// interpolated it: the eye-space position (texture coordinate 1, smooth), the normalized scalar (texture coordinate
+// 0, smooth) and the face's side (a flat attribute: kSideExit, kSideInterior, or kSideEntry once the facing is known).
+struct HavsVaryings {
+    glm::vec3 eye{0.0f};
+    float s = 0.0f;
+    float side = kSideInterior;
+};
+
+// One triangle's varyings as planes of the interpolation stage (gpu/pipeline/interpolation.h). `sv`, `eye` and `s`
+// per vertex, in drawing order; `ts` the rasterizer's setup of the same triangle (its winding orders the vertices).
+struct HavsVaryingPlanes {
+    AttributeSetup setup;
+    AttributePlane eye[3], s;
+    AttributePlane corner[3];  // noperspective (1, 0, 0), (0, 1, 0), (0, 0, 1) at the vertices, in drawing order
+    float side = kSideInterior;
+};
+HavsVaryingPlanes havs_varying_planes(const SetupVertex sv[3], const glm::vec3 eye[3], const float s[3], float side,
+                                      const TriangleSetup& ts);
+// The varyings at setup-space pixel (px, py); an interior face's side becomes kSideOutside where a corner weight is
+// below 0 (the pixel centre lies outside the triangle: covered through snapping), as havs_fragment_values marks it.
+HavsVaryings havs_varyings_at(const HavsVaryingPlanes& planes, int px, int py, ViewportArithmetic arith);
+
+// The seed's fragment values in float32 from the varyings: the distance |e| by DP3, RSQ, MUL (t = e.e, then
+// t * (1 / sqrt(t))), or -e.z under an orthographic view (the seed is perspective only: docs/havs.md); the entry
+// side * (1 + s) with s clamped to [0, 1] as in havs_fragment_values.
+KEntry havs_seed_entry(const HavsFrameConstants& fc, const HavsVaryings& v);
 
 struct KBufferDiagnostics {
     uint32_t fragments = 0;        // fragments that reached the program (flush passes not counted)

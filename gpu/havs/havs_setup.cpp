@@ -180,10 +180,30 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
     }
     fs.clip_ms = ms_since(t0);
 
+    // The seed's vertex program for every frame vertex (--interpolation gpu): clip position as above, the eye-space
+    // position by the same float product with the model-view (the seed's DP4s with state.matrix.modelview), and the
+    // scalar in float.
+    if (hm.options().interpolation == InterpolationMode::gpu) {
+        t0 = Clock::now();
+        const std::size_t nverts = fs.points_f.size();
+        fs.eye_f.resize(nverts);
+        fs.s_f.resize(nverts);
+        fs.setup_v.resize(nverts);
+        tbb::parallel_for(std::size_t(0), nverts, [&](std::size_t i) {
+            const auto clip = clip_position(fs.view.mvp, fs.points_f[i]);
+            fs.setup_v[i] = setup_vertex(clip.data(), fbuf);
+            const auto eye = clip_position(fs.view.view, fs.points_f[i]);
+            fs.eye_f[i] = glm::vec3(eye[0], eye[1], eye[2]);
+            fs.s_f[i] = float(i < npts ? hm.scalar_n(i) : fs.extra_s[i - npts]);
+        });
+        fs.vertex_ms += ms_since(t0);
+    }
+
     HavsFrameConstants& fc = fs.constants;
     fc.two_over_width = 2.0 / double(width);
     fc.two_over_height = 2.0 / double(height);
     const double aspect = double(width) / double(height);
+    fc.orthographic = cam.orthographic;
     if (cam.orthographic) {
         fc.origin_x = 0.5 * cam.ortho_height * aspect;
         fc.origin_y = 0.5 * cam.ortho_height;
@@ -215,9 +235,14 @@ HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint3
         face.inv_w[j] = float(fs.win_d[v[j]].z);
         face.s[j] = float(v[j] < npts ? hm.scalar_n(v[j]) : fs.extra_s[v[j] - npts]);
     }
-    const uint32_t source = id < fs.mesh_faces ? id : fs.extra_face[id - fs.mesh_faces];
-    face.side = source != kNearSection && hm.exit_capable(source) ? kSideExit : kSideInterior;
+    face.side = havs_face_side(hm, fs, id);
     return face;
+}
+
+float havs_face_side(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id)
+{
+    const uint32_t source = id < fs.mesh_faces ? id : fs.extra_face[id - fs.mesh_faces];
+    return source != kNearSection && hm.exit_capable(source) ? kSideExit : kSideInterior;
 }
 
 }  // namespace uvr::gpu

@@ -16,6 +16,7 @@
 #include "gpu/havs/havs_fragment.h"
 #include "gpu/pipeline/view_setup.h"
 #include "gpu/pipeline/exact_coverage.h"
+#include "gpu/pipeline/interpolation.h"
 #include "gpu/pipeline/preintegration_table.h"
 #include "gpu/pipeline/segment.h"
 #include "gpu/pipeline/rasterize.h"
@@ -38,6 +39,7 @@ struct HavsOptions {
     double table_max_length = 0.0;  // 0: the mesh's longest edge (no segment inside one cell is longer)
     TextureFilter filter = TextureFilter::linear;
     Coverage coverage = Coverage::gpu;  // --coverage exact: the emulation covers pixels without snapping
+    InterpolationMode interpolation = InterpolationMode::gpu;  // --interpolation exact: flat constants, double
 };
 
 
@@ -93,6 +95,12 @@ struct HavsFrameSetup {
     std::vector<double> extra_s;       // normalized scalars of the clip stage's vertices
     std::vector<uint32_t> extra;       // 3 frame vertices per extra triangle
     std::vector<uint32_t> extra_face;  // per extra triangle: the mesh face it lies on, or kNearSection
+    // The seed's vertex program per frame vertex (--interpolation gpu only): the eye-space position (the model-view
+    // times the float position, as shaders/havs_vertex.vert computes it), the scalar as it is sent (texture
+    // coordinate 0), and what triangle setup receives (window position, 1 / w).
+    std::vector<glm::vec3> eye_f;
+    std::vector<float> s_f;
+    std::vector<SetupVertex> setup_v;
     uint32_t mesh_faces = 0;           // the mesh's face count: the first extra triangle's id
     HavsFrameConstants constants;
     uint64_t clipped_faces = 0;        // faces that crossed a plane and were drawn as clipped fans
@@ -115,5 +123,7 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& camera, int wi
 // keeps it where the rasterizer sees the triangle back-facing and makes it kSideEntry otherwise (the emulation from its
 // setup's facing, the shader from gl_FrontFacing). A near-plane section is interior.
 HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id);
+// The side alone (kSideExit or kSideInterior), for --interpolation gpu, where it travels as a flat attribute.
+float havs_face_side(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id);
 
 }  // namespace uvr::gpu

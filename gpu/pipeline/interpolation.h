@@ -13,6 +13,10 @@ namespace uvr::gpu {
 
 enum class Qualifier { smooth, noperspective, flat };
 
+// --interpolation: gpu (the fragment's inputs are the rasterizer's interpolated varyings, this stage: the seeds'
+// pipelines, SPEC §7) or exact (computed in double from the ray through the pixel centre: the lab's variant).
+enum class InterpolationMode { gpu, exact };
+
 // A vertex as llvmpipe's triangle setup receives it (the draw module's viewport transform): the window position in
 // setup space and 1 / w of its clip coordinates.
 struct SetupVertex {
