@@ -31,7 +31,7 @@ void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
     cmd.add_option("--interpolation", o.interpolation,
                    "HAVS: gpu (the rasterizer's interpolated varyings, the seed's pipeline; default) | exact (the "
                    "fragment's values in double from the ray through the pixel centre). VICP and the ray caster: "
-                   "exact only, for now");
+                   "exact only, for now. compare takes the list gpu,exact: HAVS in both modes, side by side");
     cmd.add_option("--threshold", o.threshold, "Early-termination opacity (HAVS 0.99, VICP 1; 1 switches it off)");
     cmd.add_option("--table-size", o.table_size, "HAVS: pre-integration table texels per axis")->capture_default_str();
     cmd.add_option("--table-format", o.table_format, "HAVS: f32 | u16 | u8")->capture_default_str();
@@ -419,7 +419,11 @@ std::vector<Algorithm> make_registry()
                  }});
 
     r.push_back({"havs", Inputs::mesh, {"emu", "gl"}, [](const AlgoOptions& a) { havs_options(a); },
-                 [](const AlgoOptions& a) { return "havs-" + a.backend + "-k" + std::to_string(a.k); },
+                 [](const AlgoOptions& a) {
+                     // The seed's interpolation is the default; the exact variant says so in its label.
+                     return "havs-" + a.backend + "-k" + std::to_string(a.k) +
+                            (a.interpolation == "exact" ? "-exact-interpolation" : "");
+                 },
                  [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
                      return std::make_unique<HavsRendererEntry>(s, a);
                  },

@@ -38,6 +38,22 @@ nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos
                            const std::string& dir, const std::string& mesh_name)
 {
     for (const auto& algo : algos) check_algorithm_scene(s, algo);  // refused before any output
+    const std::vector<std::string> listed_modes = split_list(o.interpolation);
+    for (const std::string& mode : listed_modes)
+        if (listed_modes.size() > 1 && mode != "gpu" && mode != "exact")
+            throw InputError("", "--interpolation takes gpu, exact or the list gpu,exact");
+    // Each algorithm's options in each of its modes, before any output.
+    const auto modes_of = [&](const std::string& algo) {
+        return algo == "havs" && listed_modes.size() > 1
+                   ? listed_modes
+                   : std::vector<std::string>{listed_modes.size() > 1 ? std::string() : o.interpolation};
+    };
+    for (const auto& algo : algos)
+        for (const std::string& mode : modes_of(algo)) {
+            AlgoOptions om = o;
+            om.interpolation = mode;
+            find_algorithm(algo).check_options(om);
+        }
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) throw InputError(dir, "cannot create the report directory: " + ec.message());
@@ -69,11 +85,16 @@ nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos
     add("reference", ref, "reference");
     for (const auto& algo : algos) {
         if (algo == "reference") continue;
-        const AlgoResult r = run_algorithm(s, algo, o);
-        // The label names what sets the image apart: HAVS's backend and k, VICP's backend and cell order, the ray
-        // caster's backend and classification.
-        const std::string label = find_algorithm(algo).label(o);
-        add(algo, r, label);
+        // --interpolation gpu,exact renders HAVS once per mode, side by side; the other algorithms then take their
+        // default.
+        for (const std::string& mode : modes_of(algo)) {
+            AlgoOptions om = o;
+            om.interpolation = mode;
+            const AlgoResult r = run_algorithm(s, algo, om);
+            // The label names what sets the image apart: HAVS's backend, k and interpolation, VICP's backend and cell
+            // order, the ray caster's backend and classification.
+            add(algo, r, find_algorithm(algo).label(om));
+        }
     }
     write_file_atomically(dir + "/metrics.json", m.dump(1) + "\n");
     write_compare_page(dir, m);

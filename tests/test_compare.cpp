@@ -77,6 +77,33 @@ TEST_CASE("uvr compare writes the images, error maps, metrics.json and a page wh
     unsetenv("UVR_CACHE_DIR");
 }
 
+TEST_CASE("uvr compare --interpolation gpu,exact shows HAVS in both modes side by side")
+{
+    TempDir tmp("compare-modes");
+    setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
+    const std::string dir = tmp.file("report");
+    const auto r = run_uvr("compare builtin:torus-small --algos havs,vicp --interpolation gpu,exact --size 48x40 "
+                           "--report '" + dir + "'");
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const auto m = nlohmann::json::parse(uvr::test::file_contents(dir + "/metrics.json"));
+    // The reference, HAVS twice, VICP once (its only mode).
+    REQUIRE(m["results"].size() == 4);
+    CHECK(m["results"][1]["label"] == "havs-emu-k6");
+    CHECK(m["results"][1]["stats"]["interpolation"] == "gpu");
+    CHECK(m["results"][2]["label"] == "havs-emu-k6-exact-interpolation");
+    CHECK(m["results"][2]["stats"]["interpolation"] == "exact");
+    CHECK(m["results"][3]["stats"]["interpolation"] == "exact");
+    // The two modes are different images of one scene.
+    CHECK(read_npy(dir + "/havs-emu-k6.npy").rgba != read_npy(dir + "/havs-emu-k6-exact-interpolation.npy").rgba);
+    const auto bad = run_uvr("compare builtin:torus-small --algos havs --interpolation gpu,linear --size 48x40 "
+                             "--report '" + tmp.file("bad") + "'");
+    CHECK(bad.exit_code != 0);
+    CHECK_THAT(bad.err, Catch::Contains("--interpolation"));
+    CHECK_FALSE(std::filesystem::exists(tmp.file("bad")));
+    unsetenv("UVR_CACHE_DIR");
+}
+
 TEST_CASE("uvr sweep's CSV holds the numbers its images give, the table-size sweep included")
 {
     TempDir tmp("sweep-csv");

@@ -416,6 +416,55 @@ TEST_CASE("havs_fragment_entry in GLSL computes the emulation's bits on 1,200,00
     mm_double.report("havs_fragment_values (double)");
 }
 
+TEST_CASE("havs_seed_entry in GLSL computes the emulation's bits on 1,000,000 random varyings")
+{
+    // --interpolation gpu: the seed's DP3/RSQ/MUL distance (or -z, orthographic), the clamped scalar's encoding and
+    // the outside mark from the corner weights, on varyings of every magnitude: a distance whose square underflows
+    // (flushed: 0, then 0 * inf = NaN) or overflows, a zero eye position, scalars outside [0, 1] and NaN, corner
+    // weights of -0 and exactly 0, all three sides.
+    GlHavsFragmentHarness& h = *gl(GlPlatform::osmesa).harness;
+    Mismatches mm;
+    uint64_t cases_total = 0, nan_distance = 0, outside = 0;
+    test::CaseRng g(300);
+    for (bool ortho : {false, true}) {
+        HavsFrameConstants fc;
+        fc.orthographic = ortho;
+        std::vector<HavsVaryings> v(500000);
+        std::vector<glm::vec3> corners(v.size());
+        const float sides[3] = {kSideExit, kSideInterior, kSideEntry};
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            const int kind = g.pick(10);
+            const float scale = kind == 0 ? 1e-21f : kind == 1 ? 1e19f : kind == 2 ? 0.0f : g.unif(0.01f, 100.0f);
+            v[i].eye = glm::vec3(g.unif(-1.0f, 1.0f), g.unif(-1.0f, 1.0f), g.unif(-1.0f, 0.0f)) * scale;
+            const int sk = g.pick(12);
+            v[i].s = sk == 0 ? std::nanf("") : sk == 1 ? 0.0f : sk == 2 ? 1.0f : g.unif(-0.5f, 1.5f);
+            v[i].side = sides[g.pick(3)];
+            for (int c = 0; c < 3; ++c) {
+                const int ck = g.pick(8);
+                corners[i][c] = ck == 0 ? -0.0f : ck == 1 ? 0.0f : g.unif(-0.2f, 1.2f);
+            }
+        }
+        const std::vector<glm::vec4> r = h.run_seed(fc, v, corners);
+        const FlushDenormals llvmpipe_mxcsr;
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            HavsVaryings vi = v[i];
+            vi.side = havs_seed_side(v[i].side, corners[i]);
+            const KEntry e = havs_seed_entry(fc, vi);
+            mm.check(e.x, r[i].x, i, "entry x");
+            mm.check(e.y, r[i].y, i, "entry distance");
+            mm.check(vi.side, r[i].z, i, "side");
+            nan_distance += std::isnan(e.y) ? 1 : 0;
+            outside += vi.side == kSideOutside ? 1 : 0;
+        }
+        cases_total += v.size();
+    }
+    INFO(cases_total << " cases, " << nan_distance << " with a NaN distance, " << outside << " marked outside");
+    CHECK(cases_total >= 1000000);
+    CHECK(nan_distance > 10000);
+    CHECK(outside > 50000);
+    mm.report("havs_seed_entry");
+}
+
 #if defined(__x86_64__)
 TEST_CASE("denormals: llvmpipe flushes them (DAZ and FTZ), and so does the emulated fragment stage")
 {

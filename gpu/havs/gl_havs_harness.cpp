@@ -48,7 +48,9 @@ const GlProgram& GlHavsFragmentHarness::program(int k, int mode)
         GlShaderSource fs{{"preintegration_table.frag", "havs_fragment.frag", "havs_fragment_harness.frag"},
                           {{"HAVS_K", std::to_string(std::max(k, 1))}},
                           {}};
-        if (k == 0) {
+        if (k == -1) {
+            fs.defines.push_back({"HARNESS_SEED", "1"});
+        } else if (k == 0) {
             fs.defines.push_back({"HARNESS_ENTRY", "1"});
         } else {
             fs.defines.push_back({"HARNESS_KBUFFER", "1"});
@@ -195,6 +197,43 @@ std::vector<KEntry> GlHavsFragmentHarness::run_entry(const HavsFrameConstants& f
             const uint64_t d = uint64_t(dbl[i * 4 + 2]) | (uint64_t(dbl[i * 4 + 3]) << 32);
             (*values)[base + i] = glm::dvec2(std::bit_cast<double>(x), std::bit_cast<double>(d));
         }
+    }
+    return out;
+}
+
+std::vector<glm::vec4> GlHavsFragmentHarness::run_seed(const HavsFrameConstants& fc, const std::vector<HavsVaryings>& v,
+                                                      const std::vector<glm::vec3>& corners)
+{
+    if (v.size() != corners.size()) throw std::invalid_argument("run_seed: one corner triple per case");
+    ctx_.make_current();
+    const GlFunctions& gl = ctx_.gl();
+    const GlProgram& prog = program(-1, 0);
+    gl.UseProgram(prog.id());
+    set_havs_frame_uniforms(ctx_, prog, fc);
+    gl.BindVertexArray(vao_);
+    const std::size_t n = v.size();
+    std::vector<glm::vec4> out(n);
+    const std::size_t chunk = std::size_t(kHarnessWidth) * kHarnessRows;
+    for (std::size_t base = 0; base < n; base += chunk) {
+        const std::size_t m = std::min(chunk, n - base);
+        const int w = kHarnessWidth, h = int((m + std::size_t(w) - 1) / std::size_t(w));
+        // Two RGBA32F inputs per case: (eye, s) and (side, corners); padding repeats the first case.
+        std::vector<float> a(4 * std::size_t(w) * std::size_t(h)), b(a.size());
+        for (std::size_t i = 0; i < std::size_t(w) * std::size_t(h); ++i) {
+            const std::size_t c = base + (i < m ? i : 0);
+            const float ai[4] = {v[c].eye.x, v[c].eye.y, v[c].eye.z, v[c].s};
+            const float bi[4] = {v[c].side, corners[c].x, corners[c].y, corners[c].z};
+            std::copy(ai, ai + 4, &a[4 * i]);
+            std::copy(bi, bi + 4, &b[4 * i]);
+        }
+        HarnessPass pass(gl);
+        pass.input_2d(0, a, w, h);
+        pass.input_2d(1, b, w, h);
+        pass.targets(ctx_, {GL_RGBA32F}, w, h);
+        gl.DrawArrays(GL_TRIANGLES, 0, 3);
+        ctx_.check_error("the seed-entry harness pass");
+        const std::vector<float> res = pass.read(0, w, h);
+        for (std::size_t i = 0; i < m; ++i) out[base + i] = glm::vec4(res[4 * i], res[4 * i + 1], res[4 * i + 2], 0.0f);
     }
     return out;
 }

@@ -5,7 +5,8 @@
 // kHarnessWidth x kHarnessRows cases.
 // Stages: HAVS's fragment program (shaders/havs_fragment.frag through shaders/havs_fragment_harness.frag), its two
 // parts separately: havs_fragment_entry (face constants -> entry) and havs_kbuffer (stored entries, framebuffer
-// colour, incoming entry -> written entries and colour).
+// colour, incoming entry -> written entries and colour); and havs_seed_side / havs_seed_entry (interpolated
+// varyings -> entry).
 // Twins: shaders/havs_fragment_harness.frag (its mains); emulated stage gpu/havs/havs_fragment.h; GL uniforms
 // gpu/havs/gl_havs_fragment.h. Tests only (library uvr_gl_harness).
 #pragma once
@@ -62,10 +63,15 @@ public:
     std::vector<KEntry> run_entry(const HavsFrameConstants& fc, const std::vector<HavsFace>& faces,
                                   const std::vector<glm::ivec2>& pixels, std::vector<glm::dvec2>* values = nullptr);
 
+    // --interpolation gpu: havs_seed_entry(fc, v[i]) with the side havs_seed_side(v[i].side, corners[i]) for every
+    // i: (x, distance, side) per case.
+    std::vector<glm::vec4> run_seed(const HavsFrameConstants& fc, const std::vector<HavsVaryings>& v,
+                                    const std::vector<glm::vec3>& corners);
+
 private:
     GlContext& ctx_;
     GLuint vao_ = 0;
-    std::map<std::pair<int, int>, std::unique_ptr<GlProgram>> programs_;  // (k or 0 for the entry, shade mode)
+    std::map<std::pair<int, int>, std::unique_ptr<GlProgram>> programs_;  // (k; 0 entry, -1 seed; shade mode)
     GLuint table_texture_ = 0;
 
     const GlProgram& program(int k, int mode);

@@ -90,10 +90,16 @@ HavsVaryings havs_varyings_at(const HavsVaryingPlanes& p, int px, int py, Viewpo
     HavsVaryings v;
     for (int c = 0; c < 3; ++c) v.eye[c] = interpolate(p.eye[c], Qualifier::smooth, px, py, factor, arith);
     v.s = interpolate(p.s, Qualifier::smooth, px, py, factor, arith);
-    bool outside = false;
-    for (int c = 0; c < 3; ++c) outside = outside || interpolate(p.corner[c], Qualifier::noperspective, px, py, factor, arith) < 0.0f;
-    v.side = p.side == kSideInterior && outside ? kSideOutside : p.side;
+    glm::vec3 corner;
+    for (int c = 0; c < 3; ++c) corner[c] = interpolate(p.corner[c], Qualifier::noperspective, px, py, factor, arith);
+    v.side = havs_seed_side(p.side, corner);
     return v;
+}
+
+float havs_seed_side(float side, const glm::vec3& corner)
+{
+    const bool outside = corner.x < 0.0f || corner.y < 0.0f || corner.z < 0.0f;
+    return side == kSideInterior && outside ? kSideOutside : side;
 }
 
 KEntry havs_seed_entry(const HavsFrameConstants& fc, const HavsVaryings& v)

@@ -114,6 +114,10 @@ HavsVaryingPlanes havs_varying_planes(const SetupVertex sv[3], const glm::vec3 e
 // below 0 (the pixel centre lies outside the triangle: covered through snapping), as havs_fragment_values marks it.
 HavsVaryings havs_varyings_at(const HavsVaryingPlanes& planes, int px, int py, ViewportArithmetic arith);
 
+// The side of a fragment whose corner weights (the noperspective (1,0,0), (0,1,0), (0,0,1) of its triangle) are
+// `corner`: an interior face's becomes kSideOutside where one is below 0.
+float havs_seed_side(float side, const glm::vec3& corner);
+
 // The seed's fragment values in float32 from the varyings: the distance |e| by DP3, RSQ, MUL (t = e.e, then
 // t * (1 / sqrt(t))), or -e.z under an orthographic view (the seed is perspective only: docs/havs.md); the entry
 // side * (1 + s) with s clamped to [0, 1] as in havs_fragment_values.
