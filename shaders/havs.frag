@@ -5,6 +5,8 @@
 //   HAVS_PASS_FLUSH    for the flush pass (a full-screen triangle, k runs a pixel); absent for the geometry pass
 //   HAVS_DIAGNOSTICS   when the per-pixel diagnostics go to one more attachment
 //   HAVS_SEED_VARYINGS --interpolation gpu: the fragment values from the interpolated varyings (havs_seed_entry)
+//   HAVS_KBUFFER_IMAGES the read-modify-write through image load/store (no framebuffer fetch), with HAVS_INTERLOCK_ARB,
+//                      HAVS_INTERLOCK_NV or neither (llvmpipe)
 //
 // Read-modify-write of the k-buffer. The seed reads its k-buffer as textures bound to the very targets it renders
 // into, which GL leaves undefined once two fragments of one draw hit the same pixel. Here every attachment is an
@@ -27,10 +29,49 @@ flat in float havs_face_side;
 noperspective in vec3 havs_corner;
 #endif
 
+#ifdef HAVS_KBUFFER_IMAGES
+// Without framebuffer fetch (desktop GPUs): the colour, the k-buffer and the diagnostics are the same RGBA32F textures
+// bound as images, read and written by imageLoad / imageStore between the interlock's begin and end, which orders the
+// fragments of one pixel by primitive as the framebuffer does (GL_ARB_ or GL_NV_fragment_shader_interlock). On
+// llvmpipe the interlock is compiled out (HAVS_INTERLOCK none): its rasterizer threads each own a tile and shade a
+// tile's fragments one primitive after another, so one pixel's fragments run in primitive order anyway.
+layout(binding = 0, rgba32f) coherent uniform image2D havs_color_image;
+layout(binding = 1, rgba32f) coherent uniform image2D havs_entry_images[HAVS_TARGETS];
+#ifdef HAVS_DIAGNOSTICS
+layout(binding = HAVS_TARGETS + 1, rgba32f) coherent uniform image2D havs_diagnostics_image;
+#endif
+#if defined(HAVS_INTERLOCK_ARB)
+layout(pixel_interlock_ordered) in;
+#define havs_begin_interlock() beginInvocationInterlockARB()
+#define havs_end_interlock() endInvocationInterlockARB()
+#elif defined(HAVS_INTERLOCK_NV)
+layout(pixel_interlock_ordered) in;
+#define havs_begin_interlock() beginInvocationInterlockNV()
+#define havs_end_interlock() endInvocationInterlockNV()
+#else
+#define havs_begin_interlock()
+#define havs_end_interlock()
+#endif
+#define havs_load_color(p) imageLoad(havs_color_image, p)
+#define havs_store_color(p, v) imageStore(havs_color_image, p, v)
+#define havs_load_entries(p, t) imageLoad(havs_entry_images[t], p)
+#define havs_store_entries(p, t, v) imageStore(havs_entry_images[t], p, v)
+#define havs_load_diagnostics(p) imageLoad(havs_diagnostics_image, p)
+#define havs_store_diagnostics(p, v) imageStore(havs_diagnostics_image, p, v)
+#else
 layout(location = 0) inout vec4 havs_color;
 layout(location = 1) inout vec4 havs_entries[HAVS_TARGETS];
 #ifdef HAVS_DIAGNOSTICS
 layout(location = HAVS_TARGETS + 1) inout vec4 havs_diagnostics;  // havs_diag of havs_fragment.frag
+#endif
+#define havs_begin_interlock()
+#define havs_end_interlock()
+#define havs_load_color(p) havs_color
+#define havs_store_color(p, v) havs_color = v
+#define havs_load_entries(p, t) havs_entries[t]
+#define havs_store_entries(p, t, v) havs_entries[t] = v
+#define havs_load_diagnostics(p) havs_diagnostics
+#define havs_store_diagnostics(p, v) havs_diagnostics = v
 #endif
 
 vec4 havs_shade(float u_front, float u_back, float t_z, float seg_length)
@@ -40,11 +81,15 @@ vec4 havs_shade(float u_front, float u_back, float t_z, float seg_length)
 
 void main()
 {
+    ivec2 pix = ivec2(gl_FragCoord.xy);
+    havs_begin_interlock();
+    vec4 stored[HAVS_TARGETS];
+    for (int t = 0; t < HAVS_TARGETS; ++t) stored[t] = havs_load_entries(pix, t);
     vec2 a[HAVS_K];
-    for (int i = 0; i < HAVS_K; ++i) a[i] = (i % 2 == 0) ? havs_entries[i / 2].xy : havs_entries[i / 2].zw;
-    vec4 fb = havs_color;
+    for (int i = 0; i < HAVS_K; ++i) a[i] = (i % 2 == 0) ? stored[i / 2].xy : stored[i / 2].zw;
+    vec4 fb = havs_load_color(pix);
 #ifdef HAVS_DIAGNOSTICS
-    havs_diag = havs_diagnostics;
+    havs_diag = havs_load_diagnostics(pix);
 #endif
 #ifdef HAVS_PASS_FLUSH
     // The flush: k runs of the program on kFlushFragment (-1, +inf), one after the other, in one full-screen pass.
@@ -64,14 +109,15 @@ void main()
     if (f.side < 0.0 && gl_FrontFacing) f.side = havs_side_entry;
     havs_kbuffer(havs_fragment_entry(f, ivec2(gl_FragCoord.xy)), a, fb);  // false (killed): a[] and fb are as read
 #endif
-    havs_color = fb;
+    havs_store_color(pix, fb);
     for (int t = 0; t < HAVS_TARGETS; ++t) {
-        vec4 texel = havs_entries[t];
+        vec4 texel = stored[t];
         texel.xy = a[2 * t];
         if (2 * t + 1 < HAVS_K) texel.zw = a[2 * t + 1];
-        havs_entries[t] = texel;
+        havs_store_entries(pix, t, texel);
     }
 #ifdef HAVS_DIAGNOSTICS
-    havs_diagnostics = havs_diag;
+    havs_store_diagnostics(pix, havs_diag);
 #endif
+    havs_end_interlock();
 }

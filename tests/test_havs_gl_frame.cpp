@@ -38,14 +38,15 @@ FrameDiff diff(const HavsFrame& gl, const HavsFrame& emu)
 // Renders `cam` with both backends at every k of `ks` and requires bit identity.
 void require_identical(const Scene& s, const Camera& cam, int width, int height, std::initializer_list<int> ks,
                        bool diagnostics = true, GlContext& ctx = osmesa(), std::size_t faces_per_draw = 0,
-                       InterpolationMode interpolation = InterpolationMode::gpu)
+                       InterpolationMode interpolation = InterpolationMode::gpu,
+                       KBufferAccess access = KBufferAccess::automatic)
 {
     for (int k : ks) {
         HavsOptions o;
         o.k = k;
         o.interpolation = interpolation;
         const HavsFrame emu = HavsRenderer(s.mesh, s.topo, s.field, s.tf, o).render(cam, width, height);
-        GlHavsRenderer gl(ctx, s.mesh, s.topo, s.field, s.tf, o, diagnostics);
+        GlHavsRenderer gl(ctx, s.mesh, s.topo, s.field, s.tf, o, diagnostics, access);
         gl.set_faces_per_draw(faces_per_draw);
         const HavsFrame frame = gl.render(cam, width, height);
         const FrameDiff d = diff(frame, emu);
@@ -108,6 +109,17 @@ TEST_CASE("the GL HAVS frame equals the emulated frame bit for bit")
         const Scene bf = test::blunt_fin();
         require_identical(bf, default_camera(mesh_bounds(bf.mesh), 1.0, -40.0, 70.0), 256, 192, {6}, true, osmesa(), 0,
                           InterpolationMode::exact);
+    }
+    SECTION("the k-buffer through image load/store, as on a GPU without framebuffer fetch")
+    {
+        // The desktop path (an interlock around imageLoad / imageStore) with the interlock compiled out: llvmpipe
+        // shades one pixel's fragments in primitive order without it (docs/gl-backend.md).
+        const Scene torus = test::make_scene(load_builtin("builtin:torus-small"), 0);
+        require_identical(torus, default_camera(mesh_bounds(torus.mesh), 1.0, 35.0, 40.0), 160, 120, {1, 6, kmax},
+                          true, osmesa(), 0, InterpolationMode::gpu, KBufferAccess::images);
+        const Scene bf = test::blunt_fin();
+        require_identical(bf, default_camera(mesh_bounds(bf.mesh), 1.0, 0.0, 0.0), 256, 192, {6}, false, osmesa(), 0,
+                          InterpolationMode::gpu, KBufferAccess::images);
     }
     SECTION("k = 14: every draw buffer holds entries (no diagnostics)")
     {

@@ -84,6 +84,8 @@ GlPlatform parse_gl_platform(const std::string& name);        // throws InputErr
     X(PFNGLBUFFERDATAPROC, BufferData)                                                                              \
     X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)                                                                  \
     X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                                                        \
+    X(PFNGLBINDIMAGETEXTUREPROC, BindImageTexture)                                                                  \
+    X(PFNGLCOLORMASKPROC, ColorMask)                                                                                \
     X(PFNGLUNIFORM3DPROC, Uniform3d)                                                                                \
     X(PFNGLUNIFORM3FPROC, Uniform3f)                                                                                \
     X(PFNGLCULLFACEPROC, CullFace)                                                                                  \

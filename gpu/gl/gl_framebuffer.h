@@ -25,6 +25,8 @@ public:
     void bind(int width, int height);
     // The rows of attachment i as GL stores them (row 0 at the bottom).
     std::vector<glm::vec4> read(int attachment) const;
+    // The texture behind attachment i (for image load/store), valid after bind().
+    GLuint texture(int attachment) const { return textures_.at(std::size_t(attachment)); }
 
 private:
     const GlContext& ctx_;

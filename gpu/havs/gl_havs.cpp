@@ -82,12 +82,35 @@ int GlHavsRenderer::max_k(const GlInfo& info, bool diagnostics)
 }
 
 namespace {
-const HavsOptions& checked_gl_options(const GlContext& ctx, const HavsOptions& o, bool diagnostics)
+constexpr const char* kInterlockArb = "GL_ARB_fragment_shader_interlock";
+constexpr const char* kInterlockNv = "GL_NV_fragment_shader_interlock";
+
+// The k-buffer's access path for this context: whether through images, and the interlock's define and extension
+// (empty on llvmpipe, which orders a pixel's fragments without one).
+struct KBufferPath {
+    bool images = false;
+    std::string interlock_define, interlock_extension;
+};
+
+KBufferPath choose_kbuffer_path(const GlInfo& info, KBufferAccess access)
+{
+    if (access != KBufferAccess::images && info.has_extension(kFramebufferFetch)) return {};
+    if (access == KBufferAccess::framebuffer_fetch)
+        throw InputError("", std::string("the GL context (") + info.summary() + ") lacks " + kFramebufferFetch);
+    if (info.has_extension(kInterlockArb)) return {true, "HAVS_INTERLOCK_ARB", kInterlockArb};
+    if (info.has_extension(kInterlockNv)) return {true, "HAVS_INTERLOCK_NV", kInterlockNv};
+    if (access == KBufferAccess::images && info.renderer.find("llvmpipe") != std::string::npos) return {true, "", ""};
+    throw InputError("", std::string("the GL context (") + info.summary() + ") has neither " + kFramebufferFetch +
+                             " nor a fragment-shader interlock (" + kInterlockArb + " or " + kInterlockNv +
+                             "), one of which the GL backend of HAVS needs for its k-buffer (docs/gl-backend.md); use "
+                             "--backend emu");
+}
+
+const HavsOptions& checked_gl_options(const GlContext& ctx, const HavsOptions& o, bool diagnostics,
+                                      KBufferAccess access)
 {
     const GlInfo& info = ctx.info();
-    if (!info.has_extension(kFramebufferFetch))
-        throw InputError("", std::string("the GL context (") + info.summary() + ") lacks " + kFramebufferFetch +
-                                 ", which the GL backend of HAVS needs (docs/gl-backend.md); use --backend emu");
+    choose_kbuffer_path(info, access);
     if (o.segment == SegmentMode::exact)
         throw InputError("", "--segment exact runs only in the emulation (--backend emu): on a GPU the fragment "
                              "program samples the pre-integrated table");
@@ -103,11 +126,14 @@ const HavsOptions& checked_gl_options(const GlContext& ctx, const HavsOptions& o
 }  // namespace
 
 GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
-                               const TransferFunction& tf, const HavsOptions& options, bool diagnostics)
+                               const TransferFunction& tf, const HavsOptions& options, bool diagnostics,
+                               KBufferAccess access)
     : ctx_(ctx),
-      mesh_(mesh, topo, field, tf, checked_gl_options(ctx, options, diagnostics)),
+      mesh_(mesh, topo, field, tf, checked_gl_options(ctx, options, diagnostics, access)),
       diagnostics_(diagnostics)
 {
+    const KBufferPath path = choose_kbuffer_path(ctx.info(), access);
+    images_ = path.images;
     ctx_.make_current();
     const GlFunctions& gl = ctx_.gl();
     gl_ = std::make_unique<Objects>(gl);
@@ -116,7 +142,16 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     std::vector<std::pair<std::string, std::string>> defines = {
         {"HAVS_K", std::to_string(k)}, {"HAVS_TARGETS", std::to_string(entry_targets(k))}};
     if (diagnostics_) defines.push_back({"HAVS_DIAGNOSTICS", "1"});
-    const std::vector<std::string> extensions = {kFramebufferFetch};
+    std::vector<std::string> extensions;
+    if (!images_) {
+        extensions.push_back(kFramebufferFetch);
+    } else {
+        defines.push_back({"HAVS_KBUFFER_IMAGES", "1"});
+        if (!path.interlock_define.empty()) {
+            defines.push_back({path.interlock_define, "1"});
+            extensions.push_back(path.interlock_extension);
+        }
+    }
     const std::vector<std::string> files = {"preintegration_table.frag", "havs_fragment.frag", "havs.frag"};
     const bool seed = mesh_.options().interpolation == InterpolationMode::gpu;
     std::vector<std::pair<std::string, std::string>> geometry_defines = defines, vertex_defines;
@@ -204,6 +239,13 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     gl.ClearBufferfv(GL_COLOR, 0, zero);
     for (int t = 0; t < targets; ++t) gl.ClearBufferfv(GL_COLOR, 1 + t, empty);
     if (diagnostics_) gl.ClearBufferfv(GL_COLOR, 1 + targets, zero);
+    if (images_) {
+        // The attachments as images (unit i for attachment i); the passes write no colour output, so the colour
+        // mask keeps the framebuffer from writing undefined values over them.
+        for (int i = 0; i < 1 + targets + (diagnostics_ ? 1 : 0); ++i)
+            gl.BindImageTexture(GLuint(i), gl_->framebuffer->texture(i), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    }
 
     auto use = [&](const GlProgram& p) {
         gl.UseProgram(p.id());
@@ -272,10 +314,15 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
 
     // The flush: one full-screen pass running the program k times on the flush fragment (shaders/havs.frag).
     t0 = Clock::now();
+    if (images_) gl.MemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);  // the geometry pass's stores, for its loads
     use(*gl_->flush);
     gl.BindVertexArray(gl_->empty_vao);
     gl.DrawArrays(GL_TRIANGLES, 0, 3);
     gl.Finish();
+    if (images_) {
+        gl.MemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);  // for glReadPixels
+        gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    }
     ctx_.check_error("the HAVS flush passes");
     st.flush_ms = ms_since(t0);
     gl.BindVertexArray(0);
