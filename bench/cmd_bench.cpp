@@ -34,6 +34,7 @@ struct BenchArgs {
     std::string backends = "emu";
     std::string orders = "mpvonc,centroid";
     std::string gl = "osmesa";
+    std::string interpolation;  // HAVS: gpu (default) | exact
     bool json = false;
 };
 
@@ -112,6 +113,8 @@ void register_bench(CLI::App& app)
     cmd->add_option("--gl", a->gl, "With the gl backend: osmesa | egl")->capture_default_str();
     cmd->add_option("--orders,--order", a->orders, "VICP: comma-separated cell orders (mpvonc, centroid)")
         ->capture_default_str();
+    cmd->add_option("--interpolation", a->interpolation,
+                    "HAVS: gpu (the seed's interpolated varyings; default) | exact (flat constants in double)");
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     cmd->callback([a] {
         const std::vector<std::string> algos = split_list(a->algos), backends = split_list(a->backends);
@@ -146,12 +149,15 @@ void register_bench(CLI::App& app)
         base.gl = a->gl;
         base.no_cache = true;
         base.diagnostics = false;
+        if (!a->interpolation.empty() && a->interpolation != "gpu" && a->interpolation != "exact")
+            throw InputError("", "--interpolation must be gpu or exact");
         for (const auto& x : algos) {
             const Algorithm& algo = find_algorithm(x);
             const std::vector<std::string> algo_backends = algo.backends.size() == 1 ? algo.backends : backends;
             for (const auto& b : algo_backends) {
                 AlgoOptions o = base;
                 o.backend = b;
+                if (x == "havs") o.interpolation = a->interpolation;  // the others have one mode until issue 25
                 for (const AlgoOptions& v : algo.bench_variants(o, orders)) out["results"].push_back(time_frames(s, *a, algo, v));
             }
         }

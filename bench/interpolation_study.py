@@ -2,7 +2,7 @@
 """The seed's interpolation against uvr's exact one (issue 24): HAVS with --interpolation gpu and exact.
 
     python3 bench/interpolation_study.py [--uvr build/bench/uvr] [--data ../shared/data] [--out out/interpolation]
-                                         [--sizes 512,1024,2048,4096]
+                                         [--sizes 512,1024,2048,4096] [--parts views,sizes]
 
 Part 1, per mesh and view at 512^2, converged (exact segments, exact gaps, no early termination, k = 255, the
 rasterizer's coverage): each mode against the reference, and the two modes against each other.
@@ -42,6 +42,7 @@ def main():
     ap.add_argument("--data", default="../shared/data")
     ap.add_argument("--out", default="out/interpolation")
     ap.add_argument("--sizes", default="512,1024,2048,4096")
+    ap.add_argument("--parts", default="views,sizes", help="which parts to run: views, sizes or both")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
 
@@ -52,7 +53,8 @@ def main():
         return np.load(path)
 
     rows = []
-    for mesh in MESHES:
+    parts = args.parts.split(",")
+    for mesh in MESHES if "views" in parts else []:
         for az, el in VIEWS:
             scene = ["--size", "512x512", "--view", f"{az},{el}"]
             tag = f"{mesh}_{az:g}_{el:g}_512"
@@ -63,7 +65,7 @@ def main():
                 rows.append({"part": "views", "mesh": mesh, "view": f"{az:g},{el:g}", "size": 512, "pair": what,
                              **measures(a, b)})
                 print(rows[-1], flush=True)
-    for mesh in MESHES:
+    for mesh in MESHES if "sizes" in parts else []:
         for size in [int(s) for s in args.sizes.split(",")]:
             scene = ["--size", f"{size}x{size}", "--view", "35,40"]
             tag = f"{mesh}_35_40_{size}"

@@ -73,9 +73,9 @@ HavsVaryingPlanes havs_varying_planes(const SetupVertex sv[3], const glm::vec3 e
     p.setup = setup_attributes(sv, ts);
     for (int c = 0; c < 3; ++c) {
         const float value[3] = {eye[0][c], eye[1][c], eye[2][c]};
-        p.eye[c] = attribute_plane(p.setup, sv, value, Qualifier::smooth);
+        p.smooth[c] = attribute_plane(p.setup, sv, value, Qualifier::smooth);
     }
-    p.s = attribute_plane(p.setup, sv, s, Qualifier::smooth);
+    p.smooth[3] = attribute_plane(p.setup, sv, s, Qualifier::smooth);
     for (int c = 0; c < 3; ++c) {
         const float corner[3] = {c == 0 ? 1.0f : 0.0f, c == 1 ? 1.0f : 0.0f, c == 2 ? 1.0f : 0.0f};
         p.corner[c] = attribute_plane(p.setup, sv, corner, Qualifier::noperspective);
@@ -87,12 +87,13 @@ HavsVaryingPlanes havs_varying_planes(const SetupVertex sv[3], const glm::vec3 e
 HavsVaryings havs_varyings_at(const HavsVaryingPlanes& p, int px, int py, ViewportArithmetic arith)
 {
     const float factor = perspective_factor(p.setup, px, py, arith);
+    float smooth[4], corner[3];
+    interpolate(p.smooth, 4, Qualifier::smooth, px, py, factor, arith, smooth);
+    interpolate(p.corner, 3, Qualifier::noperspective, px, py, factor, arith, corner);
     HavsVaryings v;
-    for (int c = 0; c < 3; ++c) v.eye[c] = interpolate(p.eye[c], Qualifier::smooth, px, py, factor, arith);
-    v.s = interpolate(p.s, Qualifier::smooth, px, py, factor, arith);
-    glm::vec3 corner;
-    for (int c = 0; c < 3; ++c) corner[c] = interpolate(p.corner[c], Qualifier::noperspective, px, py, factor, arith);
-    v.side = havs_seed_side(p.side, corner);
+    v.eye = glm::vec3(smooth[0], smooth[1], smooth[2]);
+    v.s = smooth[3];
+    v.side = havs_seed_side(p.side, glm::vec3(corner[0], corner[1], corner[2]));
     return v;
 }
 

@@ -104,7 +104,7 @@ struct HavsVaryings {
 // per vertex, in drawing order; `ts` the rasterizer's setup of the same triangle (its winding orders the vertices).
 struct HavsVaryingPlanes {
     AttributeSetup setup;
-    AttributePlane eye[3], s;
+    AttributePlane smooth[4];  // the eye position x, y, z and the scalar
     AttributePlane corner[3];  // noperspective (1, 0, 0), (0, 1, 0), (0, 0, 1) at the vertices, in drawing order
     float side = kSideInterior;
 };

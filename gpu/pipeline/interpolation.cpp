@@ -5,6 +5,8 @@
 // viewport transform (ViewportArithmetic). docs/interpolation.md has the sources and the measurements.
 #include "gpu/pipeline/interpolation.h"
 
+#include "gpu/pipeline/texture_sampling.h"  // host_has_fma
+
 #include <cmath>
 #include <utility>
 
@@ -12,10 +14,21 @@ namespace uvr::gpu {
 
 namespace {
 
+#if defined(__x86_64__) || defined(__i386__)
+// One vfmadd: the project's portable build (no -mfma) compiles std::fma to a library call, which cost an emulated
+// Blunt Fin frame about 100 ms (its fragments evaluate eight planes each); this function alone is compiled for FMA3.
+__attribute__((target("fma"))) float fma3(float a, float b, float c) { return __builtin_fmaf(a, b, c); }
+#endif
+
 // lp_build_fmuladd(a, b, c) = a * b + c: llvm.fmuladd, one rounding on an FMA3 CPU, two otherwise.
 float fmuladd(float a, float b, float c, ViewportArithmetic arith)
 {
-    if (arith == ViewportArithmetic::fused) return std::fma(a, b, c);
+    if (arith == ViewportArithmetic::fused) {
+#if defined(__x86_64__) || defined(__i386__)
+        if (host_has_fma()) return fma3(a, b, c);
+#endif
+        return std::fma(a, b, c);
+    }
     const float p = a * b;
     return p + c;
 }
@@ -118,6 +131,43 @@ float perspective_factor(const AttributeSetup& s, int px, int py, ViewportArithm
     // attribs_update_simple: the reciprocal of the interpolated oow is lp_build_rcp, an FDiv on this path (the RCPPS
     // estimate is compiled out), computed once per pixel and shared by the perspective inputs.
     return 1.0f / frag_coord_w(s, px, py, arith);
+}
+
+namespace {
+
+#if defined(__x86_64__) || defined(__i386__)
+__attribute__((target("fma"))) void evaluate_fma3(const AttributePlane* p, int n, float x, float y, float* out)
+{
+    for (int i = 0; i < n; ++i) out[i] = __builtin_fmaf(p[i].dady, y, __builtin_fmaf(p[i].dadx, x, p[i].a0));
+}
+#endif
+
+// evaluate() for n planes, the arithmetic's branch taken once (a fragment of HAVS evaluates seven).
+void evaluate(const AttributePlane* p, int n, int px, int py, ViewportArithmetic arith, float* out)
+{
+    const float x = float(px), y = float(py);
+#if defined(__x86_64__) || defined(__i386__)
+    static const bool fma = host_has_fma();
+    if (arith == ViewportArithmetic::fused && fma) {
+        evaluate_fma3(p, n, x, y, out);
+        return;
+    }
+#endif
+    for (int i = 0; i < n; ++i) out[i] = fmuladd(p[i].dady, y, fmuladd(p[i].dadx, x, p[i].a0, arith), arith);
+}
+
+}  // namespace
+
+void interpolate(const AttributePlane* planes, int n, Qualifier q, int px, int py, float factor,
+                 ViewportArithmetic arith, float* out)
+{
+    if (q == Qualifier::flat) {
+        for (int i = 0; i < n; ++i) out[i] = planes[i].a0;
+        return;
+    }
+    evaluate(planes, n, px, py, arith, out);
+    if (q == Qualifier::smooth)
+        for (int i = 0; i < n; ++i) out[i] = out[i] * factor;
 }
 
 float interpolate(const AttributePlane& p, Qualifier q, int px, int py, float factor, ViewportArithmetic arith)

@@ -54,5 +54,8 @@ float perspective_factor(const AttributeSetup& setup, int px, int py, ViewportAr
 
 // The value of a channel at setup-space pixel (px, py); `factor` is perspective_factor's (used by `smooth` only).
 float interpolate(const AttributePlane& plane, Qualifier q, int px, int py, float factor, ViewportArithmetic arith);
+// The same for n channels of one qualifier at once (out[i] for planes[i]): the same bits, one call per fragment.
+void interpolate(const AttributePlane* planes, int n, Qualifier q, int px, int py, float factor,
+                 ViewportArithmetic arith, float* out);
 
 }  // namespace uvr::gpu
