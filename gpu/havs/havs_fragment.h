@@ -1,10 +1,11 @@
 // HAVS's fragment stage (seed 000, Appendix II), emulated operation by operation, in two parts as in the shader:
-// havs_fragment_values / havs_fragment_entry (frame constants, a face's flat HavsFace, the pixel -> the fragment's
-// entry, computed in double and stored as float32) and havs_kbuffer (the incoming entry, the k stored entries, the
-// framebuffer colour, a SegmentShader -> the written entries and colour, in float32, or a kill).
+// the fragment's entry (--interpolation gpu: havs_varyings_at / havs_seed_side / havs_seed_entry, the seed's DP3,
+// RSQ, MUL on the interpolated varyings in float32; exact: havs_fragment_values / havs_fragment_entry, a face's flat
+// HavsFace in double) and havs_kbuffer (the incoming entry, the k stored entries, the framebuffer colour, a
+// SegmentShader -> the written entries and colour, in float32, or a kill).
 // Twins: shaders/havs_fragment.frag; GL uniforms gpu/havs/gl_havs_fragment.h; harness gpu/havs/gl_havs_harness.h.
-// Derivation: docs/havs.md, "The fragment values" (flat constants, double, the snapped weights), "The two parts" and
-// "The entry encoding" (the sides kSideExit, kSideEntry, kSideOutside, kSideInterior; empty and flush entries).
+// Derivation: docs/havs.md, "The seed's interpolation", "Exact interpolation", "The two parts" and "The entry
+// encoding" (the sides kSideExit, kSideEntry, kSideOutside, kSideInterior; empty and flush entries).
 #pragma once
 
 #include <cstdint>
