@@ -5,7 +5,7 @@
 // same product with the model-view (texture coordinate 1 of the seed), the scalar (texture coordinate 0) and the
 // face's side, a per-face attribute every vertex of the face carries (the vertices are not shared), for the rasterizer
 // to interpolate; and the triangle's corners (noperspective), from which the fragment program tells a pixel outside its
-// triangle (covered through snapping). The emulated twin is the CPU stage's eye_f / s_f / setup_v
+// triangle (covered through snapping). The emulated twin is havs_seed_vertices and HavsFrameSetup::s_f
 // (gpu/havs/havs_setup.cpp) and havs_varying_planes (gpu/havs/havs_fragment.cpp).
 
 layout(location = 0) in vec3 havs_position;

@@ -127,6 +127,9 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
 
     const bool seed_varyings = mesh_.options().interpolation == InterpolationMode::gpu;
     const ViewportArithmetic arith = host_viewport_arithmetic();
+    t0 = Clock::now();
+    const HavsSeedVertices seed = seed_varyings ? havs_seed_vertices(fs) : HavsSeedVertices{};
+    st.setup_ms += ms_since(t0);
 
     t0 = Clock::now();
     tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
@@ -167,8 +170,8 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
                 // --interpolation gpu: the seed's varyings through the interpolation stage, the side a flat attribute.
                 float side = havs_face_side(mesh_, fs, id);
                 if (side == kSideExit && facing != Facing::back) side = kSideEntry;
-                const SetupVertex sv[3] = {fs.setup_v[v[0]], fs.setup_v[v[1]], fs.setup_v[v[2]]};
-                const glm::vec3 eye[3] = {fs.eye_f[v[0]], fs.eye_f[v[1]], fs.eye_f[v[2]]};
+                const SetupVertex sv[3] = {seed.setup[v[0]], seed.setup[v[1]], seed.setup[v[2]]};
+                const glm::vec3 eye[3] = {seed.eye[v[0]], seed.eye[v[1]], seed.eye[v[2]]};
                 const float s[3] = {fs.s_f[v[0]], fs.s_f[v[1]], fs.s_f[v[2]]};
                 const HavsVaryingPlanes planes = havs_varying_planes(sv, eye, s, side, ts);
                 visit([&](int px, int py) { apply(havs_seed_entry(fc, havs_varyings_at(planes, px, py, arith)), px, py); });

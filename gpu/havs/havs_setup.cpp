@@ -180,23 +180,11 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
     }
     fs.clip_ms = ms_since(t0);
 
-    // The seed's vertex program for every frame vertex (--interpolation gpu): clip position as above, the eye-space
-    // position by the same float product with the model-view (the seed's DP4s with state.matrix.modelview), and the
-    // scalar in float.
+    // The seed's scalar attribute for every frame vertex (--interpolation gpu).
     if (hm.options().interpolation == InterpolationMode::gpu) {
-        t0 = Clock::now();
-        const std::size_t nverts = fs.points_f.size();
-        fs.eye_f.resize(nverts);
-        fs.s_f.resize(nverts);
-        fs.setup_v.resize(nverts);
-        tbb::parallel_for(std::size_t(0), nverts, [&](std::size_t i) {
-            const auto clip = clip_position(fs.view.mvp, fs.points_f[i]);
-            fs.setup_v[i] = setup_vertex(clip.data(), fbuf);
-            const auto eye = clip_position(fs.view.view, fs.points_f[i]);
-            fs.eye_f[i] = glm::vec3(eye[0], eye[1], eye[2]);
+        fs.s_f.resize(fs.points_f.size());
+        for (std::size_t i = 0; i < fs.s_f.size(); ++i)
             fs.s_f[i] = float(i < npts ? hm.scalar_n(i) : fs.extra_s[i - npts]);
-        });
-        fs.vertex_ms += ms_since(t0);
     }
 
     HavsFrameConstants& fc = fs.constants;
@@ -220,6 +208,23 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
     // k is too small) is composited.
     fc.max_gap = hm.options().gaps == GapMode::maxgap ? float(hm.longest_edge()) : 0.0f;
     return fs;
+}
+
+HavsSeedVertices havs_seed_vertices(const HavsFrameSetup& fs)
+{
+    // The clip position as the vertex stage computes it (setup_vertex: the window position and 1 / w), and the
+    // eye-space position by the same float product with the model-view (the seed's DP4s with state.matrix.modelview).
+    const Framebuffer fbuf{fs.width, fs.height, RenderTarget::fbo};
+    HavsSeedVertices out;
+    out.eye.resize(fs.points_f.size());
+    out.setup.resize(fs.points_f.size());
+    tbb::parallel_for(std::size_t(0), fs.points_f.size(), [&](std::size_t i) {
+        const auto clip = clip_position(fs.view.mvp, fs.points_f[i]);
+        out.setup[i] = setup_vertex(clip.data(), fbuf);
+        const auto eye = clip_position(fs.view.view, fs.points_f[i]);
+        out.eye[i] = glm::vec3(eye[0], eye[1], eye[2]);
+    });
+    return out;
 }
 
 HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id)

@@ -95,12 +95,10 @@ struct HavsFrameSetup {
     std::vector<double> extra_s;       // normalized scalars of the clip stage's vertices
     std::vector<uint32_t> extra;       // 3 frame vertices per extra triangle
     std::vector<uint32_t> extra_face;  // per extra triangle: the mesh face it lies on, or kNearSection
-    // The seed's vertex program per frame vertex (--interpolation gpu only): the eye-space position (the model-view
-    // times the float position, as shaders/havs_vertex.vert computes it), the scalar as it is sent (texture
-    // coordinate 0), and what triangle setup receives (window position, 1 / w).
-    std::vector<glm::vec3> eye_f;
+    // Per frame vertex, the scalar as the seed's vertex program receives it (texture coordinate 0; --interpolation
+    // gpu only). The rest of that program's output the GL driver's shader computes; the emulation takes it from
+    // havs_seed_vertices.
     std::vector<float> s_f;
-    std::vector<SetupVertex> setup_v;
     uint32_t mesh_faces = 0;           // the mesh's face count: the first extra triangle's id
     HavsFrameConstants constants;
     uint64_t clipped_faces = 0;        // faces that crossed a plane and were drawn as clipped fans
@@ -118,6 +116,15 @@ struct HavsFrameSetup {
 
 // Sorts the faces, runs the vertex stage and the clip stage.
 HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& camera, int width, int height);
+
+// The seed's vertex program per frame vertex, emulated (--interpolation gpu): the eye-space position (the model-view
+// times the float position, as shaders/havs_vertex.vert computes it) and what triangle setup receives (window
+// position, 1 / w). Only the emulated driver needs them, so the GL driver does not hold them.
+struct HavsSeedVertices {
+    std::vector<glm::vec3> eye;
+    std::vector<SetupVertex> setup;
+};
+HavsSeedVertices havs_seed_vertices(const HavsFrameSetup& fs);
 
 // The flat constants of draw id `id`. `side` is kSideExit when it lies on a boundary face (exact gaps): each driver
 // keeps it where the rasterizer sees the triangle back-facing and makes it kSideEntry otherwise (the emulation from its

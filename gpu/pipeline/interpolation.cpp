@@ -14,21 +14,10 @@ namespace uvr::gpu {
 
 namespace {
 
-#if defined(__x86_64__) || defined(__i386__)
-// One vfmadd: the project's portable build (no -mfma) compiles std::fma to a library call, which cost an emulated
-// Blunt Fin frame about 100 ms (its fragments evaluate eight planes each); this function alone is compiled for FMA3.
-__attribute__((target("fma"))) float fma3(float a, float b, float c) { return __builtin_fmaf(a, b, c); }
-#endif
-
 // lp_build_fmuladd(a, b, c) = a * b + c: llvm.fmuladd, one rounding on an FMA3 CPU, two otherwise.
 float fmuladd(float a, float b, float c, ViewportArithmetic arith)
 {
-    if (arith == ViewportArithmetic::fused) {
-#if defined(__x86_64__) || defined(__i386__)
-        if (host_has_fma()) return fma3(a, b, c);
-#endif
-        return std::fma(a, b, c);
-    }
+    if (arith == ViewportArithmetic::fused) return std::fma(a, b, c);
     const float p = a * b;
     return p + c;
 }
@@ -109,13 +98,36 @@ AttributePlane attribute_plane(const AttributeSetup& s, const SetupVertex in[3],
 
 namespace {
 
-// lp_bld_interp.c attribs_update_simple: a = fmuladd(dady, y, fmuladd(dadx, x, a0)), x first. The block's origin
-// and the lane's offset in its 4x4 stamp add up to the pixel's integer coordinates exactly (small integers in
-// float), so the value depends on the pixel alone, not on the stamp, the vector width or the thread.
+#if defined(__x86_64__) || defined(__i386__)
+__attribute__((target("fma"))) void evaluate_fma3(const AttributePlane* p, int n, float x, float y, float* out)
+{
+    for (int i = 0; i < n; ++i) out[i] = __builtin_fmaf(p[i].dady, y, __builtin_fmaf(p[i].dadx, x, p[i].a0));
+}
+#endif
+
+// lp_bld_interp.c attribs_update_simple: a = fmuladd(dady, y, fmuladd(dadx, x, a0)), x first, for n planes. The
+// block's origin and the lane's offset in its 4x4 stamp add up to the pixel's integer coordinates exactly (small
+// integers in float), so the value depends on the pixel alone, not on the stamp, the vector width or the thread. On an
+// FMA3 host the fused path is one vfmadd each (evaluate_fma3: the portable build's std::fma is a library call, which
+// cost an emulated Blunt Fin frame about 100 ms; a HAVS fragment evaluates eight planes).
+void evaluate(const AttributePlane* p, int n, int px, int py, ViewportArithmetic arith, float* out)
+{
+    const float x = float(px), y = float(py);
+#if defined(__x86_64__) || defined(__i386__)
+    static const bool fma = host_has_fma();
+    if (arith == ViewportArithmetic::fused && fma) {
+        evaluate_fma3(p, n, x, y, out);
+        return;
+    }
+#endif
+    for (int i = 0; i < n; ++i) out[i] = fmuladd(p[i].dady, y, fmuladd(p[i].dadx, x, p[i].a0, arith), arith);
+}
+
 float evaluate(const AttributePlane& p, int px, int py, ViewportArithmetic arith)
 {
-    const float t = fmuladd(p.dadx, float(px), p.a0, arith);
-    return fmuladd(p.dady, float(py), t, arith);
+    float out;
+    evaluate(&p, 1, px, py, arith, &out);
+    return out;
 }
 
 }  // namespace
@@ -133,31 +145,6 @@ float perspective_factor(const AttributeSetup& s, int px, int py, ViewportArithm
     return 1.0f / frag_coord_w(s, px, py, arith);
 }
 
-namespace {
-
-#if defined(__x86_64__) || defined(__i386__)
-__attribute__((target("fma"))) void evaluate_fma3(const AttributePlane* p, int n, float x, float y, float* out)
-{
-    for (int i = 0; i < n; ++i) out[i] = __builtin_fmaf(p[i].dady, y, __builtin_fmaf(p[i].dadx, x, p[i].a0));
-}
-#endif
-
-// evaluate() for n planes, the arithmetic's branch taken once (a fragment of HAVS evaluates seven).
-void evaluate(const AttributePlane* p, int n, int px, int py, ViewportArithmetic arith, float* out)
-{
-    const float x = float(px), y = float(py);
-#if defined(__x86_64__) || defined(__i386__)
-    static const bool fma = host_has_fma();
-    if (arith == ViewportArithmetic::fused && fma) {
-        evaluate_fma3(p, n, x, y, out);
-        return;
-    }
-#endif
-    for (int i = 0; i < n; ++i) out[i] = fmuladd(p[i].dady, y, fmuladd(p[i].dadx, x, p[i].a0, arith), arith);
-}
-
-}  // namespace
-
 void interpolate(const AttributePlane* planes, int n, Qualifier q, int px, int py, float factor,
                  ViewportArithmetic arith, float* out)
 {
@@ -166,17 +153,17 @@ void interpolate(const AttributePlane* planes, int n, Qualifier q, int px, int p
         return;
     }
     evaluate(planes, n, px, py, arith, out);
+    // Perspective: the interpolated a * w_clip times 1 / (interpolated 1 / w), an FMul (two roundings in all, not a
+    // division by the interpolated oow).
     if (q == Qualifier::smooth)
         for (int i = 0; i < n; ++i) out[i] = out[i] * factor;
 }
 
 float interpolate(const AttributePlane& p, Qualifier q, int px, int py, float factor, ViewportArithmetic arith)
 {
-    if (q == Qualifier::flat) return p.a0;
-    const float a = evaluate(p, px, py, arith);
-    // Perspective: the interpolated a * w_clip times 1 / (interpolated 1 / w), an FMul (two roundings in all, not a
-    // division by the interpolated oow).
-    return q == Qualifier::smooth ? a * factor : a;
+    float out;
+    interpolate(&p, 1, q, px, py, factor, arith, &out);
+    return out;
 }
 
 }  // namespace uvr::gpu
