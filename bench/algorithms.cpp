@@ -8,6 +8,7 @@
 
 #include "bench/progress.h"
 #include "gpu/havs/gl_havs.h"
+#include "gpu/havs/gl_havs_arb.h"
 #include "gpu/raycast/gl_raycast.h"
 #include "gpu/vicp/gl_vicp.h"
 #include "reference/error.h"
@@ -18,7 +19,9 @@ namespace uvr::cli {
 
 void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
 {
-    cmd.add_option("--backend", o.backend, "emu | gl")->capture_default_str();
+    cmd.add_option("--backend", o.backend,
+                   "emu | gl | arb (HAVS only: the seed's own ARB programs under an OSMesa compatibility context)")
+        ->capture_default_str();
     cmd.add_option("--gl", o.gl, "With --backend gl: osmesa | egl")->capture_default_str();
     if (with_k) cmd.add_option("--k", o.k, "HAVS: k-buffer entries")->capture_default_str();
     cmd.add_option("--segment", o.segment, "HAVS: table | exact (emulation only)")->capture_default_str();
@@ -32,6 +35,9 @@ void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
                    "HAVS: gpu (the rasterizer's interpolated varyings, the seed's pipeline; default) | exact (the "
                    "fragment's values in double from the ray through the pixel centre). VICP and the ray caster: "
                    "exact only, for now. compare takes the list gpu,exact: HAVS in both modes, side by side");
+    cmd.add_option("--entries", o.entries,
+                   "HAVS: marked (exit, entry and extrapolated fragments told apart; default) | seed (the seed's "
+                   "program as printed: the scalar itself, exit faces negative; the default with --backend arb)");
     cmd.add_option("--threshold", o.threshold, "Early-termination opacity (HAVS 0.99, VICP 1; 1 switches it off)");
     cmd.add_option("--table-size", o.table_size, "HAVS: pre-integration table texels per axis")->capture_default_str();
     cmd.add_option("--table-format", o.table_format, "HAVS: f32 | u16 | u8")->capture_default_str();
@@ -109,6 +115,10 @@ gpu::HavsOptions havs_options(const AlgoOptions& a)
         o.interpolation = gpu::InterpolationMode::gpu;
     else
         throw InputError("", "--interpolation must be gpu or exact");
+    const std::string entries = a.entries.empty() ? (a.backend == "arb" ? "seed" : "marked") : a.entries;
+    if (entries != "marked" && entries != "seed") throw InputError("", "--entries must be marked or seed");
+    o.entries = entries == "seed" ? gpu::EntryEncoding::seed : gpu::EntryEncoding::marked;
+    if (a.backend == "arb") gpu::check_arb_options(o);
     return o;
 }
 
@@ -165,10 +175,14 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-void check_backend(const AlgoOptions& a)
+void check_backend(const Algorithm& algo, const AlgoOptions& a)
 {
-    if (a.backend != "emu" && a.backend != "gl")
-        throw InputError("", "--backend must be emu or gl, not '" + a.backend + "'");
+    for (const std::string& b : algo.backends)
+        if (a.backend == b) return;
+    std::string list;
+    for (const std::string& b : algo.backends) list += (list.empty() ? "" : ", ") + b;
+    throw InputError("", "--backend must be one of " + list + " with --algo " + algo.name + ", not '" + a.backend +
+                             "'");
 }
 
 // --- the reference (reference/reference_renderer.h): the ground truth on the CPU, for meshes and regular grids ---
@@ -238,6 +252,16 @@ public:
             emu_ = std::make_unique<gpu::HavsRenderer>(s.mesh(), *s.topology, s.field, s.tf, o);
             return;
         }
+        if (a.backend == "arb") {
+            if (a.gl != "osmesa")
+                throw InputError("", "--backend arb runs under OSMesa's compatibility profile only (--gl osmesa)");
+            if (a.require_diagnostics)
+                throw InputError("", "--diagnostics: the seed's ARB program writes no per-pixel diagnostics");
+            ctx_ = std::make_unique<gpu::GlContext>(gpu::GlPlatform::osmesa, gpu::GlProfile::compatibility);
+            arb_ = std::make_unique<gpu::ArbHavsRenderer>(*ctx_, s.mesh(), *s.topology, s.field, s.tf, o);
+            diagnostics_ = false;
+            return;
+        }
         ctx_ = std::make_unique<gpu::GlContext>(gpu::parse_gl_platform(a.gl));
         const int kmax_diag = gpu::GlHavsRenderer::max_k(ctx_->info(), true);
         if (a.require_diagnostics && a.k > kmax_diag)
@@ -249,10 +273,14 @@ public:
 
     AlgoResult render(const Camera& camera, int width, int height) override
     {
-        gpu::HavsFrame f = emu_ ? emu_->render(camera, width, height) : gl_->render(camera, width, height);
+        gpu::HavsFrame f = emu_ ? emu_->render(camera, width, height)
+                           : arb_ ? arb_->render(camera, width, height)
+                                  : gl_->render(camera, width, height);
         AlgoResult r;
         const auto& st = f.stats;
+        const gpu::HavsMesh& hm = emu_ ? emu_->cpu_stage() : arb_ ? arb_->cpu_stage() : gl_->cpu_stage();
         r.stats = {{"k", a_.k},
+                   {"entries", hm.options().entries == gpu::EntryEncoding::seed ? "seed" : "marked"},
                    {"segment", a_.segment},
                    {"gaps", a_.gaps},
                    {"coverage", a_.coverage},
@@ -288,6 +316,7 @@ private:
     std::unique_ptr<gpu::HavsRenderer> emu_;
     std::unique_ptr<gpu::GlContext> ctx_;
     std::unique_ptr<gpu::GlHavsRenderer> gl_;
+    std::unique_ptr<gpu::ArbHavsRenderer> arb_;
 };
 
 // --- VICP (gpu/vicp/): emulated, or on GL ---
@@ -418,7 +447,7 @@ std::vector<Algorithm> make_registry()
                                  r["segments_per_s"].get<double>() / 1e6, stage(r, "setup"));
                  }});
 
-    r.push_back({"havs", Inputs::mesh, {"emu", "gl"}, [](const AlgoOptions& a) { havs_options(a); },
+    r.push_back({"havs", Inputs::mesh, {"emu", "gl", "arb"}, [](const AlgoOptions& a) { havs_options(a); },
                  [](const AlgoOptions& a) {
                      // The seed's interpolation is the default; the exact variant says so in its label.
                      return "havs-" + a.backend + "-k" + std::to_string(a.k) +
@@ -533,7 +562,7 @@ void check_algorithm_scene(const Scene& s, const std::string& name)
 AlgoResult run_algorithm(const Scene& s, const std::string& name, const AlgoOptions& o)
 {
     const Algorithm& algo = find_algorithm(name);
-    if (algo.backends.size() > 1) check_backend(o);
+    if (algo.backends.size() > 1) check_backend(algo, o);
     algo.check_options(o);
     check_algorithm_scene(s, name);
     const auto t0 = Clock::now();

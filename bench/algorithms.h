@@ -32,6 +32,9 @@ struct AlgoOptions {
     // gpu (the rasterizer's interpolated varyings: the seed's pipeline) | exact (double from the pixel's ray). Empty:
     // the algorithm's default (HAVS gpu; VICP and the ray caster exact, their only mode until issue 25).
     std::string interpolation;
+    // HAVS: marked (uvr's entries: exit, entry and extrapolated fragments told apart) | seed (the program as printed:
+    // the scalar itself, exit faces negative). Empty: the backend's default (seed with --backend arb, else marked).
+    std::string entries;
     double threshold = -1.0;  // per algorithm default (SPEC §3): HAVS 0.99
     int table_size = 128;
     std::string table_format = "f32";

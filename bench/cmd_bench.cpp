@@ -108,7 +108,7 @@ void register_bench(CLI::App& app)
     cmd->add_option("--repeat", a->repeat, "Timed repetitions")->capture_default_str()->check(CLI::Range(1, 1000));
     cmd->add_option("--warmup", a->warmup, "Untimed repetitions first")->capture_default_str()->check(CLI::Range(0, 100));
     cmd->add_option("--k", a->k, "HAVS: k-buffer entries")->capture_default_str();
-    cmd->add_option("--backend,--backends", a->backends, "Comma-separated backends of the GPU algorithms (emu, gl)")
+    cmd->add_option("--backend,--backends", a->backends, "Comma-separated backends of the GPU algorithms (emu, gl; arb: HAVS only)")
         ->capture_default_str();
     cmd->add_option("--gl", a->gl, "With the gl backend: osmesa | egl")->capture_default_str();
     cmd->add_option("--orders,--order", a->orders, "VICP: comma-separated cell orders (mpvonc, centroid)")
@@ -120,7 +120,8 @@ void register_bench(CLI::App& app)
         const std::vector<std::string> algos = split_list(a->algos), backends = split_list(a->backends);
         for (const auto& x : algos) run_algorithm_check(x);
         for (const auto& b : backends)
-            if (b != "emu" && b != "gl") throw InputError("", "--backend must list emu and/or gl, not '" + b + "'");
+            if (b != "emu" && b != "gl" && b != "arb")
+                throw InputError("", "--backend must list emu, gl and/or arb, not '" + b + "'");
         gpu::parse_gl_platform(a->gl);
         const std::vector<std::string> orders = split_list(a->orders);
         for (const auto& o : orders) gpu::parse_cell_order(o);
@@ -155,6 +156,7 @@ void register_bench(CLI::App& app)
             const Algorithm& algo = find_algorithm(x);
             const std::vector<std::string> algo_backends = algo.backends.size() == 1 ? algo.backends : backends;
             for (const auto& b : algo_backends) {
+                if (std::find(algo.backends.begin(), algo.backends.end(), b) == algo.backends.end()) continue;
                 AlgoOptions o = base;
                 o.backend = b;
                 if (x == "havs") o.interpolation = a->interpolation;  // the others have one mode until issue 25

@@ -5,6 +5,7 @@
 //   HAVS_PASS_FLUSH    for the flush pass (a full-screen triangle, k runs a pixel); absent for the geometry pass
 //   HAVS_DIAGNOSTICS   when the per-pixel diagnostics go to one more attachment
 //   HAVS_SEED_VARYINGS --interpolation gpu: the fragment values from the interpolated varyings (havs_seed_entry)
+//   HAVS_SEED_ENTRIES  --entries seed: the entry is the interpolated scalar, nullified only when negative
 //   HAVS_KBUFFER_IMAGES the read-modify-write through image load/store (no framebuffer fetch), with HAVS_INTERLOCK_ARB,
 //                      HAVS_INTERLOCK_NV or neither (llvmpipe)
 //
@@ -92,10 +93,11 @@ void main()
     havs_diag = havs_load_diagnostics(pix);
 #endif
 #ifdef HAVS_PASS_FLUSH
-    // The flush: k runs of the program on kFlushFragment (-1, +inf), one after the other, in one full-screen pass.
-    // Each pixel sees the same k runs in the same order as from k passes of one run each (the emulation's loop in
-    // gpu/havs/havs.cpp), with one fetch and one store of the attachments instead of k.
-    for (int run = 0; run < HAVS_K; ++run) havs_kbuffer(vec2(-1.0, uintBitsToFloat(0x7f800000u)), a, fb);
+    // The flush: k runs of the program on kFlushFragment (-1, +inf; kSeedFlushFragment with --entries seed), one
+    // after the other, in one full-screen pass. Each pixel sees the same k runs in the same order as from k passes of
+    // one run each (the emulation's loop in gpu/havs/havs.cpp), with one fetch and one store of the attachments
+    // instead of k.
+    for (int run = 0; run < HAVS_K; ++run) havs_kbuffer(vec2(-1.0, havs_flush_distance), a, fb);
 #elif defined(HAVS_SEED_VARYINGS)
     // --interpolation gpu: the seed's fragment program on the rasterizer's varyings; the side as below.
     float side = havs_face_side;

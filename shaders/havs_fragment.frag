@@ -159,10 +159,14 @@ vec2 havs_seed_entry(vec3 e, float s_in, float side)
         precise float rsq = inversesqrt(t);
         distance = t * rsq;
     }
+#ifdef HAVS_SEED_ENTRIES
+    return vec2(s_in, distance);  // --entries seed: the interpolated scalar itself (MOV a0.x, v.x)
+#else
     precise float s = s_in < 0.0 ? 0.0 : s_in > 1.0 ? 1.0 : s_in;
     precise float one_plus_s = 1.0 + s;
     precise float x = side * one_plus_s;
     return vec2(x, distance);
+#endif
 }
 
 // havs_fragment_entry: the incoming fragment's entry as the k-buffer stores it, float32.
@@ -177,7 +181,14 @@ vec2 havs_fragment_entry(HavsFace f, ivec2 pix)
 vec4 havs_shade(float u_front, float u_back, float t_z, float seg_length);
 
 
-bool havs_real_entry(vec2 e) { return e.y > 0.0 && e.y < uintBitsToFloat(0x7f800000u); }
+// The flush fragment's distance: +inf, or with --entries seed 2^60, the distance the seed's program computes for the
+// ARB witness's flush quads (kSeedFlushFragment); a real entry lies nearer.
+#ifdef HAVS_SEED_ENTRIES
+const float havs_flush_distance = uintBitsToFloat(0x5d800000u);
+#else
+const float havs_flush_distance = uintBitsToFloat(0x7f800000u);
+#endif
+bool havs_real_entry(vec2 e) { return e.y > 0.0 && e.y < havs_flush_distance; }
 
 // The normalized scalar of an entry: |x| - 1, or |x| * 0.25 - 1 for an entry face's.
 float havs_decode_scalar(float x)
@@ -231,6 +242,15 @@ bool havs_kbuffer(vec2 a0, inout vec2 a[HAVS_K], inout vec4 fb)
     }
     precise float seg_length = second.y - r[0].y;
     vec4 c = vec4(0.0);
+#ifdef HAVS_SEED_ENTRIES
+    // --entries seed: the seed's CMP c, r0.x, 0.0, c alone; the scalars are the table coordinates as they are.
+    precise bool nullified = r[0].x < 0.0;
+    if (!nullified) {
+        precise float t_z = seg_length * havs_length_scale + havs_length_bias;
+        c = havs_shade(r[0].x, second.x, t_z, seg_length);
+    }
+    bool mark = false;
+#else
     precise bool nullified = r[0].x < 0.0 || isinf(second.y) || second.x >= havs_side_entry ||
                              (havs_max_gap > 0.0 && seg_length > havs_max_gap);
     if (!nullified) {
@@ -240,6 +260,7 @@ bool havs_kbuffer(vec2 a0, inout vec2 a[HAVS_K], inout vec4 fb)
     // Exact gaps: an extrapolated fragment right behind an exit is marked an exit too (havs_fragment.cpp).
     bool mark = havs_real_entry(r[0]) && r[0].x < 0.0 && havs_real_entry(second) && second.x >= havs_side_outside &&
                 second.x < havs_side_entry;
+#endif
 #ifdef HAVS_DIAGNOSTICS
     if (havs_real_entry(r[0])) {
         if (r[0].y < havs_diag.w) havs_diag.z += 1.0;

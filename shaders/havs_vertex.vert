@@ -1,5 +1,5 @@
-// HAVS's vertex stage (seed 000, Appendix I): the GLSL twin of gpu/pipeline/clip_position.cpp's clip_position, which
-// clip_position.vert (compiled in front of this file) holds. The face's vertices come from the vertex buffer of float
+// HAVS's vertex stage (seed 000, Appendix I): the GLSL twin of gpu/pipeline/clip_position.cpp's clip_position (exact
+// interpolation) or dp4_position (the seed's program), which clip_position.vert (compiled in front of this file) holds. The face's vertices come from the vertex buffer of float
 // positions relative to the eye (HavsFrameSetup::points_f).
 // With HAVS_SEED_VARYINGS (--interpolation gpu) it is the seed's vertex program whole: the eye-space position by the
 // same product with the model-view (texture coordinate 1 of the seed), the scalar (texture coordinate 0) and the
@@ -8,10 +8,12 @@
 // triangle (covered through snapping). The emulated twin is havs_seed_vertices and HavsFrameSetup::s_f
 // (gpu/havs/havs_setup.cpp) and havs_varying_planes (gpu/havs/havs_fragment.cpp).
 
-layout(location = 0) in vec3 havs_position;
-uniform mat4 havs_mvp;  // column-major, as Mat4f
+uniform mat4 havs_mvp;  // column-major, as Mat4f; the seed's program: state.matrix.mvp (ViewSetup::driver_mvp)
 
-#ifdef HAVS_SEED_VARYINGS
+#ifndef HAVS_SEED_VARYINGS
+layout(location = 0) in vec3 havs_position;
+#else
+layout(location = 0) in vec4 havs_position;  // three components fed: w is the default 1, as vertex.position's
 layout(location = 1) in float havs_scalar;
 layout(location = 2) in float havs_side;
 uniform mat4 havs_mv;  // the model-view for positions relative to the eye (ViewSetup::view)
@@ -23,9 +25,11 @@ noperspective out vec3 havs_corner;  // (1, 0, 0), (0, 1, 0), (0, 0, 1) at the t
 
 void main()
 {
+#ifndef HAVS_SEED_VARYINGS
     gl_Position = clip_position(havs_mvp, havs_position);
-#ifdef HAVS_SEED_VARYINGS
-    havs_eye_position = clip_position(havs_mv, havs_position).xyz;
+#else
+    gl_Position = dp4_position(havs_mvp, havs_position);
+    havs_eye_position = dp4_position(havs_mv, havs_position).xyz;
     havs_eye_scalar = havs_scalar;
     havs_face_side = havs_side;
     // A draw's vertices are its triangles' three in order (unshared), so the corner is the vertex's index mod 3.

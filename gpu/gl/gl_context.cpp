@@ -89,7 +89,7 @@ struct GlContext::Impl {
         }
     }
 
-    void create_osmesa(std::string& detail)
+    void create_osmesa(std::string& detail, GlProfile profile)
     {
         // Mesa 22.3's OSMesaCreateContextAttribs crashes (a null dispatch table, in glLabelObjectEXT) when the
         // GALLIUM_DRIVER environment variable names a driver it does not have, instead of failing: refuse first.
@@ -99,16 +99,19 @@ struct GlContext::Impl {
                 throw InputError("", "OSMesa: GALLIUM_DRIVER=" + driver + " names a driver OSMesa does not have "
                                      "(llvmpipe, softpipe); unset it (Mesa 22.3 would crash on it)");
         }
+        const bool core = profile == GlProfile::core;
         const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_STENCIL_BITS, 0,
-                               OSMESA_ACCUM_BITS, 0, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                               OSMESA_ACCUM_BITS, 0, OSMESA_PROFILE, core ? OSMESA_CORE_PROFILE : OSMESA_COMPAT_PROFILE,
                                OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
         osmesa = OSMesaCreateContextAttribs(attribs, nullptr);
+        const std::string name = core ? "core" : "compatibility";
         if (!osmesa)
-            throw InputError("", "OSMesa: cannot create an OpenGL 4.5 core-profile context (OSMesaCreateContextAttribs "
-                                 "failed; is Mesa's llvmpipe available?)");
+            throw InputError("", "OSMesa: cannot create an OpenGL 4.5 " + name +
+                                     "-profile context (OSMesaCreateContextAttribs failed; is Mesa's llvmpipe "
+                                     "available?)");
         osmesa_buffer.assign(4 * 4 * 4, 0);
         make_current();
-        detail = "osmesa, core 4.5";
+        detail = "osmesa, " + name + " 4.5";
     }
 
     // Tries one EGL display: initialize, bind GL, create a 4.5 core context, make it current without a surface.
@@ -215,12 +218,15 @@ struct GlContext::Impl {
     }
 };
 
-GlContext::GlContext(GlPlatform platform) : impl_(std::make_unique<Impl>())
+GlContext::GlContext(GlPlatform platform, GlProfile profile) : impl_(std::make_unique<Impl>())
 {
     impl_->platform = platform;
     info_.platform = platform;
     if (platform == GlPlatform::osmesa)
-        impl_->create_osmesa(info_.detail);
+        impl_->create_osmesa(info_.detail, profile);
+    else if (profile == GlProfile::compatibility)
+        throw InputError("", "EGL: uvr asks for a compatibility-profile context (the seed's ARB programs, --backend "
+                             "arb) only through OSMesa");
     else
         impl_->create_egl(info_.detail);
 
@@ -257,6 +263,8 @@ GlContext::GlContext(GlPlatform platform) : impl_(std::make_unique<Impl>())
 GlContext::~GlContext() = default;
 
 void GlContext::make_current() { impl_->make_current(); }
+
+void* GlContext::proc_address(const char* name) const { return impl_->proc(name); }
 
 void GlContext::check_error(const std::string& what) const
 {

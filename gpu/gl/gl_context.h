@@ -111,11 +111,16 @@ struct GlInfo {
     std::string summary() const;  // "llvmpipe (LLVM 15.0.6, 256 bits), 4.5 (Core Profile) Mesa 22.3.6 [osmesa]"
 };
 
+// core: what every GLSL stage runs on. compatibility (OSMesa only): the profile that keeps ARB assembly programs and
+// the fixed-function matrix stacks, for the seed's own programs (--backend arb, gpu/havs/gl_havs_arb.h).
+enum class GlProfile { core, compatibility };
+
 class GlContext {
 public:
     // Creates the context and makes it current on the calling thread. Throws InputError when the platform cannot
-    // give a 4.5 core context (no library, no display or device, too old a driver) or an entry point is missing.
-    explicit GlContext(GlPlatform platform);
+    // give a 4.5 context of the profile (no library, no display or device, too old a driver) or an entry point is
+    // missing.
+    explicit GlContext(GlPlatform platform, GlProfile profile = GlProfile::core);
     ~GlContext();
     GlContext(const GlContext&) = delete;
     GlContext& operator=(const GlContext&) = delete;
@@ -126,6 +131,8 @@ public:
 
     // Throws InputError("", "<what>: GL error 0x....") when glGetError reports one.
     void check_error(const std::string& what) const;
+    // An entry point outside GlFunctions (the ARB programs' and the compatibility profile's); null when missing.
+    void* proc_address(const char* name) const;
 
 private:
     struct Impl;

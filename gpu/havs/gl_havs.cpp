@@ -142,6 +142,7 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     std::vector<std::pair<std::string, std::string>> defines = {
         {"HAVS_K", std::to_string(k)}, {"HAVS_TARGETS", std::to_string(entry_targets(k))}};
     if (diagnostics_) defines.push_back({"HAVS_DIAGNOSTICS", "1"});
+    if (mesh_.options().entries == EntryEncoding::seed) defines.push_back({"HAVS_SEED_ENTRIES", "1"});
     std::vector<std::string> extensions;
     if (!images_) {
         extensions.push_back(kFramebufferFetch);
@@ -222,6 +223,7 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     auto t0 = Clock::now();
     const std::size_t ntris = fs.draw.size();
     const bool seed = mesh_.options().interpolation == InterpolationMode::gpu;
+    const bool seed_entries = mesh_.options().entries == EntryEncoding::seed;
     if (!seed) {  // --interpolation exact: the shared vertices, drawn by index (the seed's stream is per draw, below)
         gl.BindVertexArray(gl_->mesh_vao);
         gl.BindBuffer(GL_ARRAY_BUFFER, gl_->vertex_buffer);
@@ -252,7 +254,8 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
         set_havs_frame_uniforms(ctx_, p, fs.constants);
     };
     use(*gl_->geometry);
-    gl.UniformMatrix4fv(gl_->geometry->uniform("havs_mvp", true), 1, GL_FALSE, &fs.view.mvp[0][0]);
+    const Mat4f& mvp = seed ? fs.view.driver_mvp : fs.view.mvp;  // the seed's program reads state.matrix.mvp
+    gl.UniformMatrix4fv(gl_->geometry->uniform("havs_mvp", true), 1, GL_FALSE, &mvp[0][0]);
     if (seed) gl.UniformMatrix4fv(gl_->geometry->uniform("havs_mv", true), 1, GL_FALSE, &fs.view.view[0][0]);
     ctx_.check_error("preparing the HAVS geometry pass");
     st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
@@ -272,10 +275,16 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
             tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
                 const uint32_t id = fs.draw[c0 + i];
                 const uint32_t* v = fs.triangle(mesh_, id);
-                const float side = havs_face_side(mesh_, fs, id);
+                float side = havs_face_side(mesh_, fs, id);
+                bool exit = false;
+                if (seed_entries) {  // the mark travels in the scalar (havs_seed_exit), the side stays interior
+                    exit = havs_seed_exit(mesh_, fs, id);
+                    side = kSideInterior;
+                }
                 for (std::size_t j = 0; j < 3; ++j) {
                     const glm::vec3& p = fs.points_f[v[j]];
-                    stream[3 * i + j] = SeedVertex{{p.x, p.y, p.z}, fs.s_f[v[j]], side};
+                    const float s = exit ? seed_exit_scalar(fs.s_f[v[j]]) : fs.s_f[v[j]];
+                    stream[3 * i + j] = SeedVertex{{p.x, p.y, p.z}, s, side};
                 }
             });
             gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(3 * n * sizeof(SeedVertex)), stream.data(), GL_STREAM_DRAW);

@@ -172,7 +172,12 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
                 if (side == kSideExit && facing != Facing::back) side = kSideEntry;
                 const SetupVertex sv[3] = {seed.setup[v[0]], seed.setup[v[1]], seed.setup[v[2]]};
                 const glm::vec3 eye[3] = {seed.eye[v[0]], seed.eye[v[1]], seed.eye[v[2]]};
-                const float s[3] = {fs.s_f[v[0]], fs.s_f[v[1]], fs.s_f[v[2]]};
+                float s[3] = {fs.s_f[v[0]], fs.s_f[v[1]], fs.s_f[v[2]]};
+                if (fc.seed_entries) {  // the mark travels in the scalar (havs_seed_exit), the side stays interior
+                    if (side == kSideExit)
+                        for (float& sj : s) sj = seed_exit_scalar(sj);
+                    side = kSideInterior;
+                }
                 const HavsVaryingPlanes planes = havs_varying_planes(sv, eye, s, side, ts);
                 visit([&](int px, int py) { apply(havs_seed_entry(fc, havs_varyings_at(planes, px, py, arith)), px, py); });
                 continue;

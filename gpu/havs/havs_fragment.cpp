@@ -119,6 +119,7 @@ KEntry havs_seed_entry(const HavsFrameConstants& fc, const HavsVaryings& v)
         const float rsq = 1.0f / root;
         distance = t * rsq;
     }
+    if (fc.seed_entries) return KEntry{v.s, distance};  // MOV a0.x, v.x
     // The scalar clamped as in havs_fragment_values (comparisons: a NaN stays NaN), then side * (1 + s) in float.
     const float s = v.s < 0.0f ? 0.0f : v.s > 1.0f ? 1.0f : v.s;
     const float one_plus_s = 1.0f + s;
@@ -131,7 +132,7 @@ namespace {
 // plus the incoming fragment); a larger k takes a per-thread buffer.
 constexpr int kStackEntries = 256;
 
-bool real_entry(const KEntry& e) { return e.y > 0.0f && e.y < __builtin_inff(); }
+bool real_entry(const KEntry& e) { return e.y > 0.0f && e.y < kSeedFlushFragment.y; }  // nearer than either flush
 // The normalized scalar of an entry (see the entry encoding in havs_fragment.h).
 float decode_scalar(float x)
 {
@@ -149,6 +150,18 @@ bool composite_segment(const HavsFrameConstants& fc, KEntry front, KEntry second
     // scalar is negative (a gap, an empty or a flush entry) and, with --gaps maxgap, when it is longer than the gap.
     const float length = second.y - front.y;
     glm::vec4 c(0.0f);
+    if (fc.seed_entries) {
+        // --entries seed: CMP c, r0.x, 0.0, c alone, and the scalars are the table's coordinates as they are.
+        if (!(front.x < 0.0f)) c = shade(front.x, second.x, length * fc.length_scale + fc.length_bias, length);
+        if (diag && real_entry(front)) {
+            if (front.y < diag->last_back) ++diag->ordering_errors;
+            if (real_entry(second)) diag->last_back = std::fmax(diag->last_back, second.y);
+        }
+        const float one_minus_a = 1.0f - fb.a;
+        fb = glm::vec4(c.r * one_minus_a + fb.r, c.g * one_minus_a + fb.g, c.b * one_minus_a + fb.b,
+                       c.a * one_minus_a + fb.a);
+        return false;
+    }
     // A segment that ends on a flush fragment (distance +inf) never lies inside the mesh: it starts on the last
     // fragment of the pixel, which is an exit face unless fragments at one distance (a ray exactly through a surface
     // vertex) were ordered exit-first by rounding. Nor does one that ends on an entry face (exact gaps): the ray is
@@ -242,15 +255,17 @@ void havs_flush(const HavsFrameConstants& fc, const KEntry* a, int k, glm::vec4&
     // k runs of the program on the flush fragment (distance +inf) take the entries out in the order: distance
     // ascending, and among equal distances the later slot first (the chains' ties, which keep the relative slot
     // order of entries at one distance from run to run); each run's second entry is the next run's front. A
-    // distance that is NaN breaks that order: then the k runs are made as they are. Derivation: docs/havs.md, "The
+    // distance that is NaN, or not nearer than the flush fragment, breaks that order: then the k runs are made as
+    // they are. Derivation: docs/havs.md, "The
     // flush".
+    const KEntry flush = fc.seed_entries ? kSeedFlushFragment : kFlushFragment;
     thread_local std::vector<uint32_t> order;
     order.resize(std::size_t(k));
     for (int i = 0; i < k; ++i) {
-        if (std::isnan(a[i].y)) {
+        if (std::isnan(a[i].y) || a[i].y >= flush.y) {  // the order below needs every entry before the flush's
             thread_local std::vector<KEntry> copy;
             copy.assign(a, a + k);
-            for (int pass = 0; pass < k; ++pass) havs_kbuffer(fc, kFlushFragment, copy.data(), k, fb, shade, diag);
+            for (int pass = 0; pass < k; ++pass) havs_kbuffer(fc, flush, copy.data(), k, fb, shade, diag);
             return;
         }
         order[std::size_t(i)] = uint32_t(i);
@@ -260,9 +275,10 @@ void havs_flush(const HavsFrameConstants& fc, const KEntry* a, int k, glm::vec4&
     KEntry front = a[order[0]];
     for (int pass = 0; pass < k; ++pass) {
         if (fc.threshold - fb.a < 0.0f) return;  // KIL: this run and every later one write nothing
-        // Once the front is a flush fragment, so is every later entry: the runs composite nothing.
-        if (std::isinf(front.y)) return;
-        KEntry second = pass + 1 < k ? a[order[std::size_t(pass) + 1]] : kFlushFragment;
+        // Once the front is a flush fragment, so is every later entry: the runs composite nothing. (The seed's
+        // entries run them: their MAD of a zero colour turns a -0 channel into +0, as the ARB program does.)
+        if (!fc.seed_entries && std::isinf(front.y)) return;
+        KEntry second = pass + 1 < k ? a[order[std::size_t(pass) + 1]] : flush;
         if (composite_segment(fc, front, second, fb, shade, diag)) second.x = -second.x;
         front = second;
     }

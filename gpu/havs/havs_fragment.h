@@ -28,6 +28,12 @@ struct KEntry {
 };
 inline constexpr KEntry kEmptyEntry{-1.0f, 0.0f};
 inline constexpr KEntry kFlushFragment{-1.0f, __builtin_inff()};
+// --entries seed (the program as the seed prints it, which the ARB witness runs): an entry's x is the interpolated
+// scalar itself, an exit face's vertices carry seed_exit_scalar(s) < 0, a segment is nullified only when its front is
+// negative, and the flush fragment lies at 2^60: what the seed's DP3/RSQ/MUL give the ARB flush quads' eye position
+// (0, 0, 2^60) exactly (a square of 2^120, its root and reciprocal are powers of two). docs/havs-arb.md.
+inline constexpr KEntry kSeedFlushFragment{-1.0f, 0x1p60f};
+inline float seed_exit_scalar(float s) { return -1.0f - s; }
 
 // Per-frame constants (uniforms).
 struct HavsFrameConstants {
@@ -37,6 +43,7 @@ struct HavsFrameConstants {
     float length_scale = 0.0f, length_bias = 0.0f;  // the seed's sz.z and sz.w
     float max_gap = 0.0f;  // segments longer than this contribute nothing (the longest edge; 0 = no limit)
     bool orthographic = false;  // --interpolation gpu: the distance along parallel rays is -z (havs_seed_entry)
+    bool seed_entries = false;  // --entries seed (kSeedFlushFragment)
 };
 
 // Per-face constants (flat), computed by the CPU stage (havs_setup.cpp) in double. The window coordinates stay
@@ -121,7 +128,7 @@ float havs_seed_side(float side, const glm::vec3& corner);
 
 // The seed's fragment values in float32 from the varyings: the distance |e| by DP3, RSQ, MUL (t = e.e, then
 // t * (1 / sqrt(t))), or -e.z under an orthographic view (the seed is perspective only: docs/havs.md); the entry
-// side * (1 + s) with s clamped to [0, 1] as in havs_fragment_values.
+// side * (1 + s) with s clamped to [0, 1] as in havs_fragment_values; with seed_entries the scalar itself.
 KEntry havs_seed_entry(const HavsFrameConstants& fc, const HavsVaryings& v);
 
 struct KBufferDiagnostics {

@@ -36,6 +36,11 @@ HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t fi
         const bool seam = welded[f.v[0]] && welded[f.v[1]] && welded[f.v[2]];
         boundary_.push_back(options_.gaps == GapMode::exact && f.boundary() && !seam ? 1 : 0);
     }
+    if (options_.entries == EntryEncoding::seed &&
+        (options_.interpolation != InterpolationMode::gpu || options_.gaps != GapMode::exact))
+        throw InputError("", "--entries seed needs the seed's interpolation (--interpolation gpu) and exact gaps "
+                             "(--gaps exact): it marks exit faces by a negative scalar, and the seed's program has "
+                             "no maximum-gap rule");
     longest_edge_ = longest_tet_edge(mesh);
     if (!(options_.table_max_length > 0.0)) options_.table_max_length = longest_edge_;
     if (options_.segment == SegmentMode::table)
@@ -118,6 +123,8 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
     // The vertex stage for every point, and which planes of the clip stage each point lies outside of.
     t0 = Clock::now();
     fs.view = view_setup(cam, width, height, mesh_bounds(mesh), cam.eye);
+    // --interpolation gpu runs the seed's vertex program: DP4 rows on the driver's product (clip_position.h).
+    if (hm.options().interpolation == InterpolationMode::gpu) fs.view.program = VertexProgram::seed;
     const ClipPlanes planes = inner_clip_planes(width, height);
     const CameraFrame frame = camera_frame(cam);
     const Framebuffer fbuf{width, height, RenderTarget::fbo};
@@ -126,7 +133,7 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
     fs.eye.resize(npts);
     std::vector<uint8_t> codes(npts), gpu_outside(npts);
     tbb::parallel_for(std::size_t(0), npts, [&](std::size_t i) {
-        const auto clip = clip_position(fs.view.mvp, fs.points_f[i]);
+        const auto clip = vertex_position(fs.view, fs.points_f[i]);
         fs.win[i] = viewport_transform(clip.data(), fbuf);
         const glm::dvec3 d = mesh.points[i] - cam.eye;
         window_position_d(fs.view, d, width, height, fs.win_d[i].x, fs.win_d[i].y, fs.win_d[i].z);
@@ -197,6 +204,7 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
         fc.origin_y = 0.5 * cam.ortho_height;
     }
     fc.threshold = hm.options().threshold;
+    fc.seed_entries = hm.options().entries == EntryEncoding::seed;
     if (const PreintegrationTable* table = hm.table()) {
         fc.length_scale = table->length_scale();
         fc.length_bias = table->length_bias();
@@ -212,17 +220,16 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
 
 HavsSeedVertices havs_seed_vertices(const HavsFrameSetup& fs)
 {
-    // The clip position as the vertex stage computes it (setup_vertex: the window position and 1 / w), and the
-    // eye-space position by the same float product with the model-view (the seed's DP4s with state.matrix.modelview).
+    // The clip position as the seed's vertex program computes it (setup_vertex: the window position and 1 / w), and
+    // the eye-space position by the same DP4s with state.matrix.modelview.
     const Framebuffer fbuf{fs.width, fs.height, RenderTarget::fbo};
     HavsSeedVertices out;
     out.eye.resize(fs.points_f.size());
     out.setup.resize(fs.points_f.size());
     tbb::parallel_for(std::size_t(0), fs.points_f.size(), [&](std::size_t i) {
-        const auto clip = clip_position(fs.view.mvp, fs.points_f[i]);
+        const auto clip = vertex_position(fs.view, fs.points_f[i]);
         out.setup[i] = setup_vertex(clip.data(), fbuf);
-        const auto eye = clip_position(fs.view.view, fs.points_f[i]);
-        out.eye[i] = glm::vec3(eye[0], eye[1], eye[2]);
+        out.eye[i] = eye_position(fs.view, fs.points_f[i]);
     });
     return out;
 }
@@ -248,6 +255,14 @@ float havs_face_side(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id)
 {
     const uint32_t source = id < fs.mesh_faces ? id : fs.extra_face[id - fs.mesh_faces];
     return source != kNearSection && hm.exit_capable(source) ? kSideExit : kSideInterior;
+}
+
+bool havs_seed_exit(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id)
+{
+    if (havs_face_side(hm, fs, id) != kSideExit) return false;
+    const uint32_t* v = fs.triangle(hm, id);
+    const WindowCoord wv[3] = {fs.win[v[0]], fs.win[v[1]], fs.win[v[2]]};
+    return setup_triangle(wv, Framebuffer{fs.width, fs.height, RenderTarget::fbo}).facing == Facing::back;
 }
 
 }  // namespace uvr::gpu

@@ -28,6 +28,9 @@
 namespace uvr::gpu {
 
 enum class GapMode { exact, maxgap };     // --gaps: exit faces marked (exact), or VTK's maximum-gap heuristic
+// --entries: uvr's marked entries (side * (1 + s): exit, entry and extrapolated fragments told apart), or the seed's
+// (the scalar itself, an exit face's negative: the program as printed, which the ARB witness runs). docs/havs-arb.md.
+enum class EntryEncoding { marked, seed };
 
 struct HavsOptions {
     int k = 6;
@@ -40,6 +43,7 @@ struct HavsOptions {
     TextureFilter filter = TextureFilter::linear;
     Coverage coverage = Coverage::gpu;  // --coverage exact: the emulation covers pixels without snapping
     InterpolationMode interpolation = InterpolationMode::gpu;  // --interpolation exact: flat constants, double
+    EntryEncoding entries = EntryEncoding::marked;
 };
 
 
@@ -132,5 +136,8 @@ HavsSeedVertices havs_seed_vertices(const HavsFrameSetup& fs);
 HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id);
 // The side alone (kSideExit or kSideInterior), for --interpolation gpu, where it travels as a flat attribute.
 float havs_face_side(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id);
+// --entries seed: whether draw id `id` is an exit face, i.e. lies on a boundary face (exact gaps) the rasterizer sees
+// back-facing (the sign of its fixed-point area, setup_triangle): its vertices then carry seed_exit_scalar(s).
+bool havs_seed_exit(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id);
 
 }  // namespace uvr::gpu

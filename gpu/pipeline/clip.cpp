@@ -91,7 +91,7 @@ uint32_t ClipVertexBuffer::append(const ClipVertex& v)
 {
     const uint32_t id = uint32_t(points_f_.size());
     points_f_.push_back(glm::vec3(v.p));
-    const auto clip = clip_position(view_.mvp, points_f_.back());
+    const auto clip = vertex_position(view_, points_f_.back());
     win_.push_back(viewport_transform(clip.data(), fbuf_));
     new_outside_.push_back(outside_gpu_frustum(clip) ? 1 : 0);
     return id;

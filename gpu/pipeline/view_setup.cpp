@@ -1,5 +1,7 @@
 #include "gpu/pipeline/view_setup.h"
 
+#include "gpu/pipeline/clip_position.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -94,7 +96,14 @@ ViewSetup view_setup(const Camera& cam, int width, int height, const Bounds& b, 
     }
     const Mat4d v = view_matrix(cam, origin);
     const Mat4d mvp = multiply(p, v);
-    return {to_float(v), to_float(p), to_float(mvp), mvp, near_cuts};
+    ViewSetup vs;
+    vs.view = to_float(v);
+    vs.projection = to_float(p);
+    vs.mvp = to_float(mvp);
+    vs.driver_mvp = driver_matrix_product(vs.projection, vs.view);
+    vs.mvp_d = mvp;
+    vs.near_cuts = near_cuts;
+    return vs;
 }
 
 void window_position_d(const ViewSetup& vs, const glm::dvec3& p, int width, int height, double& x, double& y,

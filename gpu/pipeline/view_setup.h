@@ -20,10 +20,18 @@ namespace uvr::gpu {
 // Column-major 4x4, as GLSL's mat4: m[c][r] is column c, row r.
 using Mat4f = std::array<std::array<float, 4>, 4>;
 
+// The vertex program that turns a vertex-buffer position into clip coordinates (gpu/pipeline/clip_position.h): uvr's
+// GLSL rows on the matrix built in double, or the seed's ARB program (DP4 rows on the driver's float product).
+enum class VertexProgram { uvr, seed };
+
 struct ViewSetup {
     Mat4f view;        // world -> eye (rigid: distances are world units); the eye looks down -z
     Mat4f projection;  // eye -> clip (OpenGL conventions, depth in [-1, 1])
     Mat4f mvp;         // projection * view, multiplied in double before rounding
+    // The seed's vertex program (HAVS, --interpolation gpu) reads state.matrix.mvp: the product the GL driver makes of
+    // the float projection and model-view it was given (driver_matrix_product, gpu/pipeline/clip_position.h).
+    Mat4f driver_mvp;
+    VertexProgram program = VertexProgram::uvr;  // which program computes the positions (vertex_position)
     std::array<std::array<double, 4>, 4> mvp_d;  // the same in double (the fragment stage's exact geometry)
     bool near_cuts = false;  // the near plane lies in front of part of the bounds: the clip stage cuts there
 };
