@@ -321,7 +321,7 @@ TEST_CASE("uvr render --algo havs --backend gl writes the emulation's image and 
                               Case{"--backend gl --k 14 --diagnostics '" + tmp.file("d") + "'", "needs a free draw buffer"},
                               Case{"--backend gl --k 15", "--k must be between 1 and 14"},
                               Case{"--backend gl --gl glx", "--gl must be osmesa or egl"},
-                              Case{"--backend vulkan", "--backend must be emu or gl"}}) {
+                              Case{"--backend vulkan", "--backend must be one of emu, gl, arb with --algo havs"}}) {
             const std::string out = tmp.file("never.npy");
             const CommandResult r = run_uvr(scene + c.args + " --out '" + out + "'");
             INFO(c.args << ": " << r.err);

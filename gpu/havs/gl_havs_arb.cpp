@@ -12,30 +12,7 @@
 
 namespace uvr::gpu {
 
-// The compatibility profile's names that glcorearb.h leaves out (values from the ARB_vertex_program,
-// ARB_fragment_program and OpenGL 1.x specifications).
-namespace arb {
-constexpr GLenum kVertexProgram = 0x8620, kFragmentProgram = 0x8804, kFormatAscii = 0x8875;
-constexpr GLenum kErrorPosition = 0x864B, kErrorString = 0x8874;
-constexpr GLenum kModelview = 0x1700, kProjection = 0x1701;
-constexpr GLenum kVertexArray = 0x8074, kTexCoordArray = 0x8078;
-}  // namespace arb
 
-struct ArbFunctions {
-    void (*GenProgramsARB)(GLsizei, GLuint*) = nullptr;
-    void (*DeleteProgramsARB)(GLsizei, const GLuint*) = nullptr;
-    void (*BindProgramARB)(GLenum, GLuint) = nullptr;
-    void (*ProgramStringARB)(GLenum, GLenum, GLsizei, const void*) = nullptr;
-    void (*ProgramLocalParameter4fARB)(GLenum, GLuint, GLfloat, GLfloat, GLfloat, GLfloat) = nullptr;
-    void (*MatrixMode)(GLenum) = nullptr;
-    void (*LoadMatrixf)(const GLfloat*) = nullptr;
-    void (*EnableClientState)(GLenum) = nullptr;
-    void (*ClientActiveTexture)(GLenum) = nullptr;
-    void (*VertexPointer)(GLint, GLenum, GLsizei, const void*) = nullptr;
-    void (*TexCoordPointer)(GLint, GLenum, GLsizei, const void*) = nullptr;
-    void (*TextureBarrier)() = nullptr;
-    void (*PointSize)(GLfloat) = nullptr;
-};
 
 std::unique_ptr<ArbFunctions> load_arb_functions(const GlContext& ctx)
 {

@@ -17,8 +17,31 @@ namespace uvr::gpu {
 
 inline constexpr int kArbK = 6;  // the seed's k-buffer: three textures of two entries
 
+// The compatibility profile's names that glcorearb.h leaves out (values from the ARB_vertex_program,
+// ARB_fragment_program and OpenGL 1.x specifications).
+namespace arb {
+constexpr GLenum kVertexProgram = 0x8620, kFragmentProgram = 0x8804, kFormatAscii = 0x8875;
+constexpr GLenum kErrorPosition = 0x864B, kErrorString = 0x8874;
+constexpr GLenum kModelview = 0x1700, kProjection = 0x1701;
+constexpr GLenum kVertexArray = 0x8074, kTexCoordArray = 0x8078;
+}  // namespace arb
+
 // The entry points of ARB assembly programs and of the compatibility profile's vertex arrays and matrices.
-struct ArbFunctions;
+struct ArbFunctions {
+    void (*GenProgramsARB)(GLsizei, GLuint*) = nullptr;
+    void (*DeleteProgramsARB)(GLsizei, const GLuint*) = nullptr;
+    void (*BindProgramARB)(GLenum, GLuint) = nullptr;
+    void (*ProgramStringARB)(GLenum, GLenum, GLsizei, const void*) = nullptr;
+    void (*ProgramLocalParameter4fARB)(GLenum, GLuint, GLfloat, GLfloat, GLfloat, GLfloat) = nullptr;
+    void (*MatrixMode)(GLenum) = nullptr;
+    void (*LoadMatrixf)(const GLfloat*) = nullptr;
+    void (*EnableClientState)(GLenum) = nullptr;
+    void (*ClientActiveTexture)(GLenum) = nullptr;
+    void (*VertexPointer)(GLint, GLenum, GLsizei, const void*) = nullptr;
+    void (*TexCoordPointer)(GLint, GLenum, GLsizei, const void*) = nullptr;
+    void (*TextureBarrier)() = nullptr;
+    void (*PointSize)(GLfloat) = nullptr;
+};
 
 // One ARB program (GL_VERTEX_PROGRAM_ARB or GL_FRAGMENT_PROGRAM_ARB) from its text; `name` names it in errors.
 // Throws InputError naming the file, the position and Mesa's message when the text does not load.

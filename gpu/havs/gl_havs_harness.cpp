@@ -8,6 +8,7 @@
 
 #include "gpu/gl/gl_harness_pass.h"
 #include "gpu/gl/gl_preintegration_table.h"
+#include "gpu/havs/gl_havs_arb.h"
 #include "gpu/havs/gl_havs_fragment.h"
 #include "reference/error.h"
 
@@ -234,6 +235,143 @@ std::vector<glm::vec4> GlHavsFragmentHarness::run_seed(const HavsFrameConstants&
         ctx_.check_error("the seed-entry harness pass");
         const std::vector<float> res = pass.read(0, w, h);
         for (std::size_t i = 0; i < m; ++i) out[base + i] = glm::vec4(res[4 * i], res[4 * i + 1], res[4 * i + 2], 0.0f);
+    }
+    return out;
+}
+
+// ---- The seed's ARB fragment program ----
+
+namespace {
+// The harness's vertex program: the point's clip position and both texture coordinates as they are.
+constexpr const char* kArbPassThrough = "!!ARBvp1.0\n"
+                                        "MOV result.position, vertex.position;\n"
+                                        "MOV result.texcoord[0], vertex.texcoord[0];\n"
+                                        "MOV result.texcoord[1], vertex.texcoord[1];\n"
+                                        "END\n";
+struct ArbCaseVertex {
+    float position[3];  // clip coordinates (w is the default 1)
+    float scalar;
+    float eye[3];
+};
+}  // namespace
+
+struct GlHavsArbHarness::Objects {
+    std::unique_ptr<ArbFunctions> arb;
+    std::unique_ptr<ArbProgram> vertex, fragment;
+    GLuint table_texture = 0;
+};
+
+GlHavsArbHarness::GlHavsArbHarness(GlContext& ctx) : ctx_(ctx), gl_(std::make_unique<Objects>())
+{
+    gl_->arb = load_arb_functions(ctx_);
+    gl_->vertex = std::make_unique<ArbProgram>(ctx_, *gl_->arb, arb::kVertexProgram, "the pass-through vertex program",
+                                               kArbPassThrough);
+    gl_->fragment = std::make_unique<ArbProgram>(ctx_, *gl_->arb, arb::kFragmentProgram,
+                                                 shader_dir() + "/havs_seed.fp", read_shader_file("havs_seed.fp"));
+}
+
+GlHavsArbHarness::~GlHavsArbHarness()
+{
+    if (gl_->table_texture) ctx_.gl().DeleteTextures(1, &gl_->table_texture);
+}
+
+ArbKBufferResults GlHavsArbHarness::run(const PreintegrationTable& table, float length_scale, float length_bias,
+                                        const ArbKBufferCases& cases)
+{
+    const GlFunctions& gl = ctx_.gl();
+    const ArbFunctions& arb = *gl_->arb;
+    constexpr int W = kHarnessWidth, H = kHarnessRows, K = kArbK;
+    upload_preintegration_table(ctx_, table, TextureFilter::linear, gl_->table_texture);
+    ArbKBufferResults out;
+    out.entries.resize(cases.size() * K);
+    out.framebuffer.resize(cases.size());
+    for (std::size_t c0 = 0; c0 < cases.size(); c0 += std::size_t(W) * H) {
+        const std::size_t n = std::min(std::size_t(W) * H, cases.size() - c0);
+        HarnessPass pass(gl);
+        // Textures 0-3, filled with the cases' colour and entries, bound on units 0-3 and as attachments 0-3.
+        std::vector<float> texels[4];
+        for (auto& t : texels) t.assign(std::size_t(W) * H * 4, 0.0f);
+        for (std::size_t i = 0; i < n; ++i) {
+            const glm::vec4& f = cases.framebuffer[c0 + i];
+            std::copy(&f.x, &f.x + 4, &texels[0][4 * i]);
+            for (int e = 0; e < K; ++e) {
+                const KEntry& a = cases.entries[(c0 + i) * K + std::size_t(e)];
+                texels[1 + e / 2][4 * i + 2 * std::size_t(e % 2)] = a.x;
+                texels[1 + e / 2][4 * i + 2 * std::size_t(e % 2) + 1] = a.y;
+            }
+        }
+        for (int t = 0; t < 4; ++t) pass.input_2d(t, texels[t], W, H);
+        gl.ActiveTexture(GL_TEXTURE4);
+        gl.BindTexture(GL_TEXTURE_3D, gl_->table_texture);
+        gl.GenFramebuffers(1, &pass.fbo);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, pass.fbo);
+        GLenum bufs[4];
+        for (int t = 0; t < 4; ++t) {
+            gl.FramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + t), GL_TEXTURE_2D,
+                                    pass.textures[std::size_t(t)], 0);
+            bufs[t] = GLenum(GL_COLOR_ATTACHMENT0 + t);
+        }
+        gl.DrawBuffers(4, bufs);
+        check_framebuffer(ctx_, "the ARB harness");
+        gl.Viewport(0, 0, W, H);
+        gl.Disable(GL_BLEND);
+        gl.Disable(GL_DEPTH_TEST);
+        gl.Disable(GL_CULL_FACE);
+        // One point a case at its pixel's centre: x = (px + 0.5) / (W / 2) - 1 is exact in float, and so is the
+        // viewport transform's x * W / 2 + W / 2 (W = 1024, H = 256).
+        std::vector<ArbCaseVertex> points(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const int px = int(i % W), py = int(i / W);
+            const glm::vec3& e = cases.eye[c0 + i];
+            points[i] = ArbCaseVertex{{(float(px) + 0.5f) / (0.5f * W) - 1.0f, (float(py) + 0.5f) / (0.5f * H) - 1.0f,
+                                       0.0f},
+                                      cases.scalar[c0 + i],
+                                      {e.x, e.y, e.z}};
+        }
+        GLuint buffer = 0;
+        gl.GenBuffers(1, &buffer);
+        pass.buffers.push_back(buffer);
+        gl.BindVertexArray(0);
+        gl.BindBuffer(GL_ARRAY_BUFFER, buffer);
+        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(n * sizeof(ArbCaseVertex)), points.data(), GL_STREAM_DRAW);
+        arb.EnableClientState(arb::kVertexArray);
+        arb.VertexPointer(3, GL_FLOAT, sizeof(ArbCaseVertex), nullptr);
+        arb.ClientActiveTexture(GL_TEXTURE0);
+        arb.EnableClientState(arb::kTexCoordArray);
+        arb.TexCoordPointer(1, GL_FLOAT, sizeof(ArbCaseVertex),
+                            reinterpret_cast<const void*>(offsetof(ArbCaseVertex, scalar)));
+        arb.ClientActiveTexture(GL_TEXTURE1);
+        arb.EnableClientState(arb::kTexCoordArray);
+        arb.TexCoordPointer(3, GL_FLOAT, sizeof(ArbCaseVertex), reinterpret_cast<const void*>(offsetof(ArbCaseVertex, eye)));
+        arb.ClientActiveTexture(GL_TEXTURE0);
+        arb.PointSize(1.0f);
+        gl.Enable(arb::kVertexProgram);
+        gl.Enable(arb::kFragmentProgram);
+        gl_->vertex->bind();
+        gl_->fragment->bind();
+        arb.ProgramLocalParameter4fARB(arb::kFragmentProgram, 0, 1.0f / float(W), 1.0f / float(H), length_scale,
+                                       length_bias);
+        gl.DrawArrays(GL_POINTS, 0, GLsizei(n));
+        gl.Finish();
+        gl.Disable(arb::kVertexProgram);
+        gl.Disable(arb::kFragmentProgram);
+        ctx_.check_error("the ARB harness pass");
+        std::vector<float> read(std::size_t(W) * H * 4);
+        gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+        for (int t = 0; t < 4; ++t) {
+            gl.ReadBuffer(GLenum(GL_COLOR_ATTACHMENT0 + t));
+            gl.ReadPixels(0, 0, W, H, GL_RGBA, GL_FLOAT, read.data());
+            for (std::size_t i = 0; i < n; ++i) {
+                if (t == 0) {
+                    out.framebuffer[c0 + i] = glm::vec4(read[4 * i], read[4 * i + 1], read[4 * i + 2], read[4 * i + 3]);
+                    continue;
+                }
+                for (int h = 0; h < 2; ++h)
+                    out.entries[(c0 + i) * K + std::size_t(2 * (t - 1) + h)] =
+                        KEntry{read[4 * i + 2 * std::size_t(h)], read[4 * i + 2 * std::size_t(h) + 1]};
+            }
+        }
+        ctx_.check_error("reading the ARB harness back");
     }
     return out;
 }

@@ -6,7 +6,7 @@
 // Stages: HAVS's fragment program (shaders/havs_fragment.frag through shaders/havs_fragment_harness.frag), its two
 // parts separately: havs_fragment_entry (face constants -> entry) and havs_kbuffer (stored entries, framebuffer
 // colour, incoming entry -> written entries and colour); and havs_seed_side / havs_seed_entry (interpolated
-// varyings -> entry).
+// varyings -> entry). GlHavsArbHarness: the seed's own ARB fragment program (shaders/havs_seed.fp), whole.
 // Twins: shaders/havs_fragment_harness.frag (its mains); emulated stage gpu/havs/havs_fragment.h; GL uniforms
 // gpu/havs/gl_havs_fragment.h. Tests only (library uvr_gl_harness).
 #pragma once
@@ -76,6 +76,36 @@ private:
 
     const GlProgram& program(int k, int mode);
     void upload_table(const PreintegrationTable& table);
+};
+
+// The seed's ARB fragment program (shaders/havs_seed.fp) alone, k = 6, on a compatibility-profile context: one case
+// a pixel, drawn as a point of size 1 at the pixel centre (clip w = 1) through a pass-through ARB vertex program, so
+// that the fragment receives its texture coordinates unchanged; the framebuffer colour and the stored entries are the
+// initial contents of textures 0-3, which are also the render targets (the seed's read-modify-write).
+struct ArbKBufferCases {
+    std::vector<float> scalar;           // texture coordinate 0's x (the incoming scalar), one per case
+    std::vector<glm::vec3> eye;          // texture coordinate 1 (the eye-space position), one per case
+    std::vector<KEntry> entries;         // 6 per case, a1..a6
+    std::vector<glm::vec4> framebuffer;  // one per case
+    std::size_t size() const { return scalar.size(); }
+};
+struct ArbKBufferResults {
+    std::vector<KEntry> entries;         // 6 per case, as the program left them
+    std::vector<glm::vec4> framebuffer;  // one per case
+};
+
+class GlHavsArbHarness {
+public:
+    explicit GlHavsArbHarness(GlContext& ctx);  // a compatibility-profile context
+    ~GlHavsArbHarness();
+    // The program's local parameter sz.zw are `length_scale` and `length_bias`; texture 4 holds `table`.
+    ArbKBufferResults run(const PreintegrationTable& table, float length_scale, float length_bias,
+                          const ArbKBufferCases& cases);
+
+private:
+    struct Objects;
+    GlContext& ctx_;
+    std::unique_ptr<Objects> gl_;
 };
 
 }  // namespace uvr::gpu
