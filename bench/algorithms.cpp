@@ -38,6 +38,8 @@ void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
     cmd.add_option("--entries", o.entries,
                    "HAVS: marked (exit, entry and extrapolated fragments told apart; default) | seed (the seed's "
                    "program as printed: the scalar itself, exit faces negative; the default with --backend arb)");
+    cmd.add_option("--arb-draw", o.arb_draw, "With --backend arb: triangles per draw call (0: 131072)");
+    cmd.add_flag("--arb-barrier", o.arb_barrier, "With --backend arb: a texture barrier after every draw call");
     cmd.add_option("--threshold", o.threshold, "Early-termination opacity (HAVS 0.99, VICP 1; 1 switches it off)");
     cmd.add_option("--table-size", o.table_size, "HAVS: pre-integration table texels per axis")->capture_default_str();
     cmd.add_option("--table-format", o.table_format, "HAVS: f32 | u16 | u8")->capture_default_str();
@@ -259,6 +261,8 @@ public:
                 throw InputError("", "--diagnostics: the seed's ARB program writes no per-pixel diagnostics");
             ctx_ = std::make_unique<gpu::GlContext>(gpu::GlPlatform::osmesa, gpu::GlProfile::compatibility);
             arb_ = std::make_unique<gpu::ArbHavsRenderer>(*ctx_, s.mesh(), *s.topology, s.field, s.tf, o);
+            arb_->set_triangles_per_draw(a.arb_draw);
+            arb_->set_barrier_after_each_draw(a.arb_barrier);
             diagnostics_ = false;
             return;
         }

@@ -35,6 +35,10 @@ struct AlgoOptions {
     // HAVS: marked (uvr's entries: exit, entry and extrapolated fragments told apart) | seed (the program as printed:
     // the scalar itself, exit faces negative). Empty: the backend's default (seed with --backend arb, else marked).
     std::string entries;
+    // --backend arb: triangles per draw call (0: the driver's 131,072) and a glTextureBarrier after each draw (what
+    // conformant GL would need; docs/havs-arb.md, "Reading the targets").
+    std::size_t arb_draw = 0;
+    bool arb_barrier = false;
     double threshold = -1.0;  // per algorithm default (SPEC §3): HAVS 0.99
     int table_size = 128;
     std::string table_format = "f32";

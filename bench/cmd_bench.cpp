@@ -35,6 +35,9 @@ struct BenchArgs {
     std::string orders = "mpvonc,centroid";
     std::string gl = "osmesa";
     std::string interpolation;  // HAVS: gpu (default) | exact
+    std::string entries;        // HAVS: marked | seed (empty: the backend's default)
+    std::size_t arb_draw = 0;   // --backend arb: triangles per draw
+    bool arb_barrier = false;   // --backend arb: a texture barrier after each draw
     bool json = false;
 };
 
@@ -115,6 +118,9 @@ void register_bench(CLI::App& app)
         ->capture_default_str();
     cmd->add_option("--interpolation", a->interpolation,
                     "HAVS: gpu (the seed's interpolated varyings; default) | exact (flat constants in double)");
+    cmd->add_option("--entries", a->entries, "HAVS: marked | seed (default: seed with arb, else marked)");
+    cmd->add_option("--arb-draw", a->arb_draw, "With the arb backend: triangles per draw call (0: 131072)");
+    cmd->add_flag("--arb-barrier", a->arb_barrier, "With the arb backend: a texture barrier after every draw call");
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     cmd->callback([a] {
         const std::vector<std::string> algos = split_list(a->algos), backends = split_list(a->backends);
@@ -159,7 +165,12 @@ void register_bench(CLI::App& app)
                 if (std::find(algo.backends.begin(), algo.backends.end(), b) == algo.backends.end()) continue;
                 AlgoOptions o = base;
                 o.backend = b;
-                if (x == "havs") o.interpolation = a->interpolation;  // the others have one mode until issue 25
+                if (x == "havs") {  // the others have one mode until issue 25
+                    o.interpolation = a->interpolation;
+                    o.entries = a->entries;
+                    o.arb_draw = a->arb_draw;
+                    o.arb_barrier = a->arb_barrier;
+                }
                 for (const AlgoOptions& v : algo.bench_variants(o, orders)) out["results"].push_back(time_frames(s, *a, algo, v));
             }
         }

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# HAVS (emulated, and on GL through OSMesa or EGL) beside VTK 9's projected tetrahedra on the same scene, in one run
-# (issues 4 and 5's performance goals).
+# HAVS (emulated, on GL through OSMesa or EGL, and through the seed's own ARB programs) beside VTK 9's projected
+# tetrahedra on the same scene, in one run (issues 4, 5 and 24's performance goals).
 #   bash bench/peers/havs_vs_vtk.sh MESH [scene options...]     e.g.
 #   bash bench/peers/havs_vs_vtk.sh ../shared/data/vtk-data/bluntfinxyz.bin --q ../shared/data/vtk-data/bluntfinq.bin \
 #        --size 512x512
@@ -20,22 +20,22 @@ trap 'rm -rf "$dir"' EXIT
 # Rounds alternate uvr and VTK, so that both see the same state of a shared machine; the ratios are taken within a
 # round, and their median is the figure reported (docs/gl-backend.md, "Speed").
 for r in $(seq 1 "$rounds"); do
-  "$uvr" bench "$@" --algos havs --backend emu,gl --gl "$gl" --k "$k" --repeat "$repeat" --json > "$dir/uvr-$r.json"
+  "$uvr" bench "$@" --algos havs --backend emu,gl,arb --gl "$gl" --k "$k" --repeat "$repeat" --json > "$dir/uvr-$r.json"
   xvfb-run -a /usr/bin/python3 "$here/bench/peers/vtk_peers.py" "$dir" --reference "$dir/reference.npy" \
     --mappers pt --repeat "$repeat" > "$dir/vtk-$r.json"
 done
 /usr/bin/python3 - "$dir" "$rounds" <<'PY'
 import json, statistics, sys
 d, rounds = sys.argv[1], int(sys.argv[2])
-gl_pt, emu_gl = [], []
+gl_pt, emu_gl, arb_gl = [], [], []
 for r in range(1, rounds + 1):
     u = json.load(open(f"{d}/uvr-{r}.json")); v = json.load(open(f"{d}/vtk-{r}.json"))
-    emu, gl = u["results"]; pt = v["results"][0]
+    emu, gl, arb = u["results"]; pt = v["results"][0]
     if r == 1:
         print(f"{u['mesh']}: {u['tetrahedra']} tetrahedra, {u['width']}x{u['height']}, k={emu['k']}, "
               f"{u['machine']['cpu']} ({u['machine']['threads']} threads); GL: {gl['gl']}; VTK {v['vtk']}")
     print(f"round {r}:")
-    for x in (emu, gl):
+    for x in (emu, gl, arb):
         s = x["stages"]
         print(f"  uvr HAVS {x['backend']:3s}  {x['frame_ms']:8.1f} ms/frame (median of {len(x['frame_ms_all'])}): sort "
               f"{s['sort']:.1f}, vertex+setup {s['vertex_and_setup']:.1f}, raster+fragment "
@@ -44,7 +44,10 @@ for r in range(1, rounds + 1):
     print(f"  VTK projected tetrahedra {pt['frame_ms']:8.1f} ms/frame (median of {len(pt['frame_ms_all'])}), RMSE "
           f"against the reference {pt['rmse_rgb']:.4f}")
     gl_pt.append(gl["frame_ms"] / pt["frame_ms"]); emu_gl.append(emu["frame_ms"] / gl["frame_ms"])
-    print(f"  ratios: GL / VTK PT {gl_pt[-1]:.2f}, emulation / GL {emu_gl[-1]:.2f}")
+    arb_gl.append(arb["frame_ms"] / gl["frame_ms"])
+    print(f"  ratios: GL / VTK PT {gl_pt[-1]:.2f}, emulation / GL {emu_gl[-1]:.2f}, ARB (--entries seed) / GL "
+          f"{arb_gl[-1]:.2f}")
 print(f"median over {rounds} rounds: GL / VTK PT {statistics.median(gl_pt):.2f} (range {min(gl_pt):.2f}-"
-      f"{max(gl_pt):.2f}), emulation / GL {statistics.median(emu_gl):.2f} (range {min(emu_gl):.2f}-{max(emu_gl):.2f})")
+      f"{max(gl_pt):.2f}), emulation / GL {statistics.median(emu_gl):.2f} (range {min(emu_gl):.2f}-{max(emu_gl):.2f}), "
+      f"ARB / GL {statistics.median(arb_gl):.2f} (range {min(arb_gl):.2f}-{max(arb_gl):.2f})")
 PY
