@@ -91,7 +91,10 @@ GlPlatform parse_gl_platform(const std::string& name);        // throws InputErr
     X(PFNGLCULLFACEPROC, CullFace)                                                                                  \
     X(PFNGLFRONTFACEPROC, FrontFace)                                                                                \
     X(PFNGLPROVOKINGVERTEXPROC, ProvokingVertex)                                                                    \
-    X(PFNGLTEXBUFFERPROC, TexBuffer)
+    X(PFNGLTEXBUFFERPROC, TexBuffer)                                                                                \
+    X(PFNGLFENCESYNCPROC, FenceSync)                                                                                \
+    X(PFNGLCLIENTWAITSYNCPROC, ClientWaitSync)                                                                      \
+    X(PFNGLDELETESYNCPROC, DeleteSync)
 
 struct GlFunctions {
 #define UVR_GL_MEMBER(type, name) type name = nullptr;

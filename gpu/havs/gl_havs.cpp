@@ -8,6 +8,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "gpu/gl/gl_draw_throttle.h"
 #include "gpu/gl/gl_framebuffer.h"
 #include "gpu/gl/gl_preintegration_table.h"
 #include "gpu/havs/gl_havs_fragment.h"
@@ -31,6 +32,10 @@ int entry_targets(int k) { return (k + 1) / 2; }
 // tetrahedron, 16 MiB chunks with per-chunk indices at 187 (8 MiB: 186). The frame time does not move with it (Blunt
 // Fin, 512 x 512: 0.69-0.73 s with 128, 16 or 8 MiB). docs/results.md, "Memory".
 constexpr std::size_t kFaceBytesPerDraw = std::size_t(16) << 20;
+
+// Geometry draws llvmpipe may hold unfinished (GlDrawThrottle): two keep its rasterizer threads fed while the next
+// draw's data is built.
+constexpr std::size_t kDrawsInFlight = 2;
 
 // --interpolation gpu: what the seed's vertex program reads per vertex. The vertices are not shared (a face's three
 // carry its side, a per-face attribute), so a triangle sends 3 x 20 bytes.
@@ -264,6 +269,7 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     // draws, so the pixels see the same sequence as from one draw). Each draw's face constants and vertex indices are
     // built and uploaded just before it: neither the CPU nor Mesa holds more than a few chunks of them.
     const std::size_t chunk = faces_per_draw();
+    GlDrawThrottle throttle(ctx_, kDrawsInFlight);
     if (seed) {
         // --interpolation gpu: each triangle's three vertices with the seed's attributes, drawn in order.
         std::vector<SeedVertex> stream(3 * std::min(chunk, ntris));
@@ -291,6 +297,7 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
             st.setup_ms += ms_since(t0);
             t0 = Clock::now();
             gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(3 * n));
+            throttle.drawn();
             st.raster_fragment_ms += ms_since(t0);
             ++st.draws;
         }
@@ -313,6 +320,7 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
         st.setup_ms += ms_since(t0);
         t0 = Clock::now();
         gl.DrawElements(GL_TRIANGLES, GLsizei(3 * n), GL_UNSIGNED_INT, nullptr);
+        throttle.drawn();
         st.raster_fragment_ms += ms_since(t0);
         ++st.draws;
     }

@@ -6,6 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "gpu/gl/gl_draw_throttle.h"
 #include "gpu/gl/gl_framebuffer.h"
 #include "gpu/gl/gl_preintegration_table.h"
 #include "reference/error.h"
@@ -201,6 +202,7 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
     // The geometry: each triangle's three vertices (an exit face's scalars negated: havs_seed_exit), in sorted order.
     const std::size_t ntris = fs.draw.size(), chunk = triangles_per_draw_;
     std::vector<ArbVertex> stream(3 * std::min(chunk, ntris));
+    GlDrawThrottle throttle(ctx_, 2);  // as the GLSL driver: two draws in flight at most
     for (std::size_t c0 = 0; c0 < ntris; c0 += chunk) {
         const std::size_t n = std::min(chunk, ntris - c0);
         t0 = Clock::now();
@@ -219,6 +221,7 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
         t0 = Clock::now();
         gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(3 * n));
         if (barrier_) arb.TextureBarrier();
+        throttle.drawn();
         st.raster_fragment_ms += ms_since(t0);
         ++st.draws;
     }
