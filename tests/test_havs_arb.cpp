@@ -3,6 +3,7 @@
 // million random cases; and whole frames through them equal the GLSL driver's and the emulation's.
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <limits>
 #include <regex>
 
@@ -386,5 +387,19 @@ TEST_CASE("uvr render --backend arb writes the seed's frame and reports its entr
                                   tmp.file("d") + "' --out '" + tmp.file("d.npy") + "'");
         CHECK(diag.exit_code != 0);
         CHECK_THAT(diag.err, Catch::Contains("no per-pixel diagnostics"));
+    }
+    SECTION("--entries seed without the seed's interpolation or with VTK's gaps, and an unknown encoding")
+    {
+        const std::string out = " --out '" + tmp.file("n.npy") + "'";
+        const auto exact = run_uvr("render builtin:torus-small --algo havs --entries seed --interpolation exact" + out);
+        CHECK(exact.exit_code != 0);
+        CHECK_THAT(exact.err, Catch::Contains("--entries seed needs the seed's interpolation"));
+        const auto maxgap = run_uvr("render builtin:torus-small --algo havs --entries seed --gaps maxgap" + out);
+        CHECK(maxgap.exit_code != 0);
+        CHECK_THAT(maxgap.err, Catch::Contains("no maximum-gap rule"));
+        const auto other = run_uvr("render builtin:torus-small --algo havs --entries sided" + out);
+        CHECK(other.exit_code != 0);
+        CHECK_THAT(other.err, Catch::Contains("--entries must be marked or seed"));
+        CHECK(!std::filesystem::exists(tmp.file("n.npy")));
     }
 }
