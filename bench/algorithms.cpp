@@ -453,9 +453,13 @@ std::vector<Algorithm> make_registry()
 
     r.push_back({"havs", Inputs::mesh, {"emu", "gl", "arb"}, [](const AlgoOptions& a) { havs_options(a); },
                  [](const AlgoOptions& a) {
-                     // The seed's interpolation is the default; the exact variant says so in its label.
+                     // The seed's interpolation is the default; the exact variant says so in its label, and so do
+                     // entries other than the backend's default (the seed's on arb, uvr's marked ones elsewhere).
+                     const bool arb = a.backend == "arb";
+                     const std::string entries =
+                         a.entries.empty() || a.entries == (arb ? "seed" : "marked") ? "" : "-" + a.entries + "-entries";
                      return "havs-" + a.backend + "-k" + std::to_string(a.k) +
-                            (a.interpolation == "exact" ? "-exact-interpolation" : "");
+                            (a.interpolation == "exact" ? "-exact-interpolation" : "") + entries;
                  },
                  [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
                      return std::make_unique<HavsRendererEntry>(s, a);

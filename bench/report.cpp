@@ -166,4 +166,54 @@ void write_sweep_page(const std::string& dir, const nlohmann::json& w, bool plot
     write_file_atomically(dir + "/index.html", h);
 }
 
+void write_demo_page(const std::string& dir, const nlohmann::json& page)
+{
+    std::string html = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>uvr demo</title>\n<style>"
+                       "body{font-family:sans-serif;margin:2em;max-width:70em}table{border-collapse:collapse}"
+                       "td,th{padding:4px 10px;border-bottom:1px solid #ddd;text-align:left}img{width:96px;"
+                       "image-rendering:pixelated;background:#000}.same{color:#070;font-weight:bold}.differs{color:#b00;"
+                       "font-weight:bold}.na{color:#777}</style></head>\n<body>\n<h1>uvr: how right GPU volume "
+                       "renderers are, and what they cost</h1>\n";
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "<p>Everything below was rendered just now from built-in data: a tetrahedralized torus (%zu points, "
+                  "%zu tetrahedra) and a fuzzy torus on a 64 &times; 64 &times; 32 grid. Each algorithm is measured "
+                  "against the exact reference (RMSE, largest channel error, fraction of pixels visibly different). "
+                  "On GL and through the seed's ARB programs, &ldquo;same bits&rdquo; means the image equals its "
+                  "emulated twin bit for bit. Each heading links the full report with error maps.</p>\n",
+                  page["mesh"]["points"].get<std::size_t>(), page["mesh"]["tetrahedra"].get<std::size_t>());
+    html += buf;
+    for (const auto& part : page["parts"]) {
+        const std::string title = html_escape(part["title"].get<std::string>());
+        if (part.contains("unavailable")) {
+            html += "<h2>" + title + "</h2>\n<p class=\"na\">Not run on this machine: " +
+                    html_escape(part["unavailable"].get<std::string>()) + "</p>\n";
+            continue;
+        }
+        html += "<h2><a href=\"" + html_escape(part["page"].get<std::string>()) + "\">" + title + "</a></h2>\n";
+        html += "<table><tr><th></th><th>image</th><th>RMSE</th><th>largest error</th><th>visible</th>"
+                "<th>emulated twin</th></tr>\n";
+        for (const auto& r : part["results"]) {
+            std::string twin = "&mdash;";
+            if (r.contains("same_bits"))
+                twin = r["same_bits"].get<bool>()
+                           ? "<span class=\"same\">same bits</span> as " + html_escape(r["same_bits_as"].get<std::string>())
+                           : "<span class=\"differs\">differs</span> from " +
+                                 html_escape(r["same_bits_as"].get<std::string>());
+            std::snprintf(buf, sizeof buf, "<td>%.3g</td><td>%.3g</td><td>%.4f</td>", r["rmse"].get<double>(),
+                          r["max_abs"].get<double>(), r["visible_fraction"].get<double>());
+            const std::string image = html_escape(r["image"].get<std::string>());
+            html += "<tr><td>" + html_escape(r["label"].get<std::string>()) + "</td><td><a href=\"" + image +
+                    "\"><img src=\"" + image + "\" alt=\"" + html_escape(r["label"].get<std::string>()) +
+                    "\"></a></td>" + buf + "<td>" + twin + "</td></tr>\n";
+        }
+        html += "</table>\n";
+    }
+    html += "<h2><a href=\"" + html_escape(page["sweep"].get<std::string>()) +
+            "\">Error against the k-buffer's size (uvr sweep)</a></h2>\n<p>HAVS on the small torus, k = 1 to 16, three "
+            "views: how the error falls as the k-buffer grows.</p>\n";
+    html += load_check_script() + "</body></html>\n";
+    write_file_atomically(dir + "/index.html", html);
+}
+
 }  // namespace uvr::cli

@@ -14,6 +14,11 @@ void write_compare_page(const std::string& dir, const nlohmann::json& metrics);
 // Writes DIR/index.html for a sweep report (the content of sweep.json); `plots` says whether the PNG plots exist.
 void write_sweep_page(const std::string& dir, const nlohmann::json& sweep, bool plots);
 
+// Writes DIR/index.html for `uvr demo`: `page` has "parts" (each a compare report: "title", "page", "results" as in
+// metrics.json with image paths relative to DIR and, on GL and ARB rows, "same_bits" / "same_bits_as"; or
+// "unavailable" with the reason), "sweep" (the sweep page) and "mesh" (counts).
+void write_demo_page(const std::string& dir, const nlohmann::json& page);
+
 // A small script that marks <body> with data-loaded, data-images and data-broken once the page has loaded.
 std::string load_check_script();
 

@@ -91,6 +91,32 @@ TetMesh builtin_torus(std::size_t target_tets)
 
 bool is_builtin_path(const std::string& path) { return path.rfind("builtin:", 0) == 0; }
 
+Volume builtin_torus_volume()
+{
+    Volume v;
+    v.source = kBuiltinVolumePath;
+    v.name = "fuzzy torus";
+    v.dims = {64, 64, 32};
+    const double R = kTorusMajorRadius, r = kTorusMinorRadius, margin = 0.2;
+    const glm::dvec3 lo(-(R + r + margin), -(R + r + margin), -(r + margin));
+    v.origin = lo;
+    v.spacing = glm::dvec3(-2.0 * lo.x / double(v.dims[0] - 1), -2.0 * lo.y / double(v.dims[1] - 1),
+                           -2.0 * lo.z / double(v.dims[2] - 1));
+    v.type = VoxelType::f32;
+    v.values.resize(std::size_t(v.dims[0] * v.dims[1] * v.dims[2]));
+    std::size_t i = 0;
+    for (int64_t z = 0; z < v.dims[2]; ++z)
+        for (int64_t y = 0; y < v.dims[1]; ++y)
+            for (int64_t x = 0; x < v.dims[0]; ++x) {
+                const glm::dvec3 p = lo + glm::dvec3(double(x), double(y), double(z)) * v.spacing;
+                const double d = std::hypot(std::hypot(p.x, p.y) - R, p.z);
+                const double wave = 0.75 + 0.25 * std::sin(3.0 * p.x) * std::cos(2.0 * p.y);
+                v.values[i++] = float(std::exp(-(d / r) * (d / r)) * wave);
+            }
+    finalize_volume(v);
+    return v;
+}
+
 TetMesh load_builtin(const std::string& path)
 {
     if (path == "builtin:torus") return builtin_torus(kBuiltinTorusTets);
@@ -105,7 +131,8 @@ TetMesh load_builtin(const std::string& path)
         throw InputError(path, "builtin:torus-N takes a tetrahedron count N from 100 to " +
                                    std::to_string(kBuiltinTorusMaxTets));
     }
-    throw InputError(path, "unknown built-in data set (known: builtin:torus, builtin:torus-small, builtin:torus-N)");
+    throw InputError(path, "unknown built-in data set (known: builtin:torus, builtin:torus-small, builtin:torus-N, "
+                           "builtin:torus-volume)");
 }
 
 }  // namespace uvr

@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include "reference/mesh.h"
+#include "reference/volume.h"
 
 namespace uvr {
 
@@ -26,6 +27,12 @@ TetMesh builtin_torus(std::size_t target_tets);
 // the scaling study). Returns true and fills `mesh` when `path` is one of them.
 bool is_builtin_path(const std::string& path);
 TetMesh load_builtin(const std::string& path);
+
+// "builtin:torus-volume": a regular grid for the ray caster (the demo's, and tests'), nothing to download: 64 x 64 x 32
+// samples over the torus's box (margin 0.2) of a fuzzy torus, exp(-(d / r)^2) with d the distance to the tube's core
+// circle and r the minor radius, times 0.75 + 0.25 sin(3x) cos(2y) so that the ring carries structure.
+inline constexpr const char* kBuiltinVolumePath = "builtin:torus-volume";
+Volume builtin_torus_volume();
 
 inline constexpr std::size_t kBuiltinTorusTets = 100000;
 inline constexpr std::size_t kBuiltinTorusSmallTets = 5000;

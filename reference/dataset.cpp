@@ -10,6 +10,10 @@ Dataset load_dataset(const std::string& path, const LoadOptions& options)
 {
     if (is_builtin_path(path)) {
         Dataset d;
+        if (path == kBuiltinVolumePath) {
+            d.volume = builtin_torus_volume();
+            return d;
+        }
         d.mesh = load_builtin(path);
         return d;
     }

@@ -197,17 +197,27 @@ TEST_CASE("uvr render with the camera inside the mesh: HAVS and VICP render it o
     }
 }
 
-TEST_CASE("uvr demo runs with no argument and leaves its images")
+TEST_CASE("uvr demo runs with no argument and shows the whole lab, each GL image with its emulated twin's bits")
 {
     uvr::test::TempDir tmp("demo");
     const CommandResult r = run_uvr("demo --out '" + tmp.file("d") + "'");
-    INFO(r.err);
+    INFO(r.out << r.err);
     REQUIRE(r.exit_code == 0);
-    CHECK(std::filesystem::exists(tmp.file("d/compare/index.html")));
+    CHECK(std::filesystem::exists(tmp.file("d/index.html")));
+    for (const char* part : {"compare", "compare-gl", "compare-seed-entries", "compare-arb", "raycast", "raycast-gl", "sweep"})
+        CHECK(std::filesystem::exists(tmp.file(std::string("d/") + part + "/index.html")));
     CHECK(std::filesystem::exists(tmp.file("d/compare/havs-emu-k6-error.png")));
-    CHECK(std::filesystem::exists(tmp.file("d/sweep/index.html")));
     CHECK(std::filesystem::exists(tmp.file("d/sweep/sweep.csv")));
-    CHECK(nlohmann::json::parse(uvr::test::file_contents(tmp.file("d/compare/metrics.json")))["results"].size() == 2);
+    CHECK(nlohmann::json::parse(uvr::test::file_contents(tmp.file("d/compare/metrics.json")))["results"].size() == 3);
+    // One progress line a step, and the bit-for-bit marks of every GL and ARB image.
+    CHECK_THAT(r.out, Catch::Contains("uvr demo [7/7] the landing page"));
+    for (const char* mark : {"havs-gl-k6 ", "vicp-gl-mpvonc ", "havs-arb-k6 ", "raycast-gl-post "}) {
+        const std::size_t at = r.out.find(mark);
+        REQUIRE(at != std::string::npos);
+        CHECK(r.out.substr(at, r.out.find('\n', at) - at).find("same bits as") != std::string::npos);
+    }
+    CHECK_THAT(r.out, !Catch::Contains("join as they land"));
+    CHECK_THAT(uvr::test::file_contents(tmp.file("d/index.html")), Catch::Contains("same bits"));
 }
 
 TEST_CASE("an interrupted sweep resumed from disk gives the same numbers as one uninterrupted")

@@ -1,5 +1,6 @@
 // The regular-grid readers: NRRD, MetaImage, SLC and raw, on the shared data sets, hand-made files and broken files.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 
@@ -433,3 +434,31 @@ TEST_CASE("Volume readers reject broken files with the file named")
         require_input_error([&] { read_raw_volume(p, {1, 1, 1}, "complex", false); }, {p, "unknown voxel type"});
     }
 }
+
+TEST_CASE("the built-in volume is a fuzzy torus on a 64 x 64 x 32 grid, loaded like a file")
+{
+    const uvr::Dataset d = uvr::load_dataset("builtin:torus-volume");
+    REQUIRE(d.volume.has_value());
+    const uvr::Volume& v = *d.volume;
+    CHECK(v.dims == std::array<int64_t, 3>{64, 64, 32});
+    const uvr::Range r = uvr::volume_range(v);
+    INFO("range " << r.lo << " .. " << r.hi);
+    CHECK(r.lo >= 0.0);
+    CHECK(r.lo < 1e-3);  // at the box's corners, 4 tube radii from the core circle, exp(-16) and less
+    // Next to the core circle exp(-(d / r)^2) is about 1: the largest sample is at least the wave's largest value on
+    // the circle (x, y) = (cos t, sin t), found here by a fine walk round it, less 2 % (a sample is at most half a
+    // spacing, 0.05 < r / 8, off the circle: exp(-1/64)); off the circle inside the tube the product can be a little
+    // larger, never above 1.
+    double wave_max = 0.0;
+    for (int i = 0; i < 100000; ++i) {
+        const double t = 2.0 * 3.14159265358979323846 * i / 100000.0;
+        wave_max = std::max(wave_max, 0.75 + 0.25 * std::sin(3.0 * std::cos(t)) * std::cos(2.0 * std::sin(t)));
+    }
+    INFO("the wave's largest value on the core circle: " << wave_max);
+    CHECK(r.hi >= 0.98 * wave_max);
+    CHECK(r.hi <= 1.0);
+    // The grid's centre lies in the torus's hole: one tube radius and more from the core circle.
+    const std::size_t centre = std::size_t((16 * 64 + 32) * 64 + 32);
+    CHECK(v.values[centre] < 0.01f);
+}
+

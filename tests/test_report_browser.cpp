@@ -73,3 +73,26 @@ TEST_CASE("the compare and sweep pages load in a real browser with every image a
     }
     unsetenv("UVR_CACHE_DIR");
 }
+
+TEST_CASE("uvr demo's landing page loads in a real browser with every link's page and every image present")
+{
+    TempDir tmp("browser-demo");
+    setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
+    const auto d = run_uvr("demo --size 96x96 --out '" + tmp.file("demo") + "'");
+    INFO(d.out << d.err);
+    REQUIRE(d.exit_code == 0);
+    check_page(tmp, tmp.file("demo/index.html"), tmp.file("demo.png"));
+    // Every link of the landing page leads to a file that exists.
+    const std::string html = uvr::test::file_contents(tmp.file("demo/index.html"));
+    std::size_t links = 0;
+    for (std::size_t at = html.find("href=\""); at != std::string::npos; at = html.find("href=\"", at + 1)) {
+        const std::size_t from = at + 6, to = html.find('"', from);
+        const std::string target = html.substr(from, to - from);
+        INFO("link " << target);
+        CHECK(std::filesystem::exists(tmp.file("demo/" + target)));
+        ++links;
+    }
+    CHECK(links >= 20);
+    unsetenv("UVR_CACHE_DIR");
+}
+
