@@ -1,5 +1,7 @@
-// `uvr compare MESH --algos LIST --report DIR`: every algorithm on one scene, each measured against the reference
-// (SPEC §4): images, error heat maps, metrics.json and an HTML page.
+// `uvr compare MESH --algos LIST [--image FILE --label NAME ...] --report DIR`: every algorithm on one scene, and any
+// image made elsewhere of the same scene, each measured against the reference (SPEC §4): images, error heat maps,
+// metrics.json and an HTML page.
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -22,6 +24,7 @@ struct CompareArgs {
     AlgoOptions algo_options;
     std::string algos = "reference,havs";
     std::string report;
+    std::vector<std::string> images, labels;  // --image FILE, --label NAME (one per image, or none)
     bool json = false;
 };
 
@@ -35,9 +38,19 @@ nlohmann::json measures_json(const ErrorMeasures& e)
 }  // namespace
 
 nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos, const AlgoOptions& o,
-                           const std::string& dir, const std::string& mesh_name)
+                           const std::string& dir, const std::string& mesh_name, const std::vector<LabelledImage>& images)
 {
     for (const auto& algo : algos) check_algorithm_scene(s, algo);  // refused before any output
+    // Outside images: read and checked against the scene's size before any output.
+    std::vector<OutsideImage> outside;
+    for (const LabelledImage& li : images) {
+        outside.push_back(read_outside_image(li.path));
+        const Image& im = outside.back().image;
+        if (im.width != s.width || im.height != s.height)
+            throw InputError(li.path, "is " + std::to_string(im.width) + "x" + std::to_string(im.height) +
+                                          ", the scene is " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                                          " (--size)");
+    }
     const std::vector<std::string> listed_modes = split_list(o.interpolation);
     for (const std::string& mode : listed_modes)
         if (listed_modes.size() > 1 && mode != "gpu" && mode != "exact")
@@ -96,6 +109,26 @@ nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos
             add(algo, r, find_algorithm(algo).label(om));
         }
     }
+    // Each outside image: measured like an algorithm's, over colour alone when it has no alpha (the page says so).
+    for (std::size_t i = 0; i < images.size(); ++i) {
+        const Image& im = outside[i].image;
+        const int channels = outside[i].colour_only ? 3 : 4;
+        const std::string& label = images[i].label;
+        write_image(dir + "/" + label + ".png", im);
+        nlohmann::json j = measures_json(measure_errors(im, ref.image, channels));
+        j["algo"] = "image";
+        j["backend"] = "outside";
+        j["label"] = label;
+        j["source"] = images[i].path;
+        j["colour_only"] = outside[i].colour_only;
+        j["image"] = label + ".png";
+        j["ms"] = 0.0;
+        j["cached"] = false;
+        write_png_rgb8(dir + "/" + label + "-error.png", s.width, s.height,
+                       error_heat_map(pixel_errors(im, ref.image, channels)));
+        j["error_map"] = label + "-error.png";
+        m["results"].push_back(j);
+    }
     write_file_atomically(dir + "/metrics.json", m.dump(1) + "\n");
     write_compare_page(dir, m);
     return m;
@@ -109,13 +142,30 @@ void register_compare(CLI::App& app)
     add_algo_options(*cmd, a->algo_options);
     cmd->add_option("--algos", a->algos, "Comma-separated algorithms")->capture_default_str();
     cmd->add_option("--report", a->report, "Directory for images, error maps, metrics.json, index.html")->required();
+    cmd->add_option("--image", a->images,
+                    "An image of the same scene made elsewhere (.npy float32 premultiplied RGBA, row 0 on top; .pfm; "
+                    ".png: colour only), measured against the reference like the algorithms; repeatable");
+    cmd->add_option("--label", a->labels, "The name of each --image on the page (default: the file's name)");
     cmd->add_flag("--json", a->json, "Print metrics.json's object on stdout");
     cmd->callback([a] {
         const auto algos = split_list(a->algos);
         if (algos.empty()) throw InputError("", "--algos is empty");
         for (const auto& x : algos) run_algorithm_check(x);
+        if (!a->labels.empty() && a->labels.size() != a->images.size())
+            throw InputError("", "give one --label per --image (" + std::to_string(a->images.size()) + " images, " +
+                                     std::to_string(a->labels.size()) + " labels), or none");
+        std::vector<LabelledImage> images;
+        for (std::size_t i = 0; i < a->images.size(); ++i) {
+            std::string label = a->labels.empty() ? std::filesystem::path(a->images[i]).stem().string() : a->labels[i];
+            for (char& c : label)  // the label names files in the report
+                if (!std::isalnum(static_cast<unsigned char>(c)) && c != '-' && c != '_' && c != '.') c = '_';
+            for (const auto& x : algos)
+                if (label == x || label == "reference")
+                    throw InputError(a->images[i], "its label '" + label + "' is taken by an algorithm; give --label");
+            images.push_back({a->images[i], label});
+        }
         const Scene s = setup_scene(a->scene);
-        const nlohmann::json m = run_compare(s, algos, a->algo_options, a->report, a->scene.input.path);
+        const nlohmann::json m = run_compare(s, algos, a->algo_options, a->report, a->scene.input.path, images);
         if (a->json) {
             std::printf("%s\n", m.dump(1).c_str());
             return;

@@ -18,9 +18,6 @@
 
 namespace uvr::cli {
 
-nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos, const AlgoOptions& o,
-                           const std::string& dir, const std::string& mesh_name);
-
 namespace {
 
 bool same_image_bits(const std::string& a, const std::string& b)

@@ -2,8 +2,13 @@
 // throws InputError for bad input, which main() turns into a message and exit code.
 #pragma once
 
-#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
 
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "bench/algorithms.h"
 #include "bench/options.h"
 
 namespace uvr::cli {
@@ -15,5 +20,15 @@ void register_bench(CLI::App& app);
 void register_export(CLI::App& app);
 void register_compare(CLI::App& app);
 void register_sweep(CLI::App& app);
+
+// compare's work, which demo shares: the reference and `algos` on scene `s` (and `images`, made elsewhere, each
+// under its label) measured against the reference, written to `dir` (images, error maps, metrics.json, index.html).
+// Everything is checked before anything is written. Returns metrics.json's object.
+struct LabelledImage {
+    std::string path, label;
+};
+nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos, const AlgoOptions& o,
+                           const std::string& dir, const std::string& mesh_name,
+                           const std::vector<LabelledImage>& images = {});
 
 }  // namespace uvr::cli

@@ -98,14 +98,22 @@ img { image-rendering: pixelated; width: 256px; background: #000; }
                               "<th>max</th><th>PSNR (dB)</th><th>visible</th><th>time (ms)</th></tr>\n";
     for (const auto& r : m["results"]) {
         const std::string label = r["label"].get<std::string>();
-        h += "<tr><td>" + html_escape(label) + "</td><td><img src=\"" + html_escape(r["image"].get<std::string>()) +
+        const bool outside = r["algo"] == "image";
+        // An image made elsewhere says where it came from, and when it had no alpha that only colour was compared.
+        std::string note;
+        if (outside)
+            note = "<br><small>" + html_escape(r["source"].get<std::string>()) +
+                   (r["colour_only"].get<bool>() ? "<br>colour only (no alpha): RGB against the reference over black"
+                                                 : "") + "</small>";
+        h += "<tr><td>" + html_escape(label) + note + "</td><td><img src=\"" + html_escape(r["image"].get<std::string>()) +
              "\" alt=\"" + html_escape(label) + "\"></td><td>";
         if (r.contains("error_map"))
             h += "<img src=\"" + html_escape(r["error_map"].get<std::string>()) + "\" alt=\"error of " +
                  html_escape(label) + "\">";
         h += "</td><td>" + number(r["rmse"], "%.3g") + "</td><td>" + number(r["max_abs"], "%.3g") + "</td><td>" +
              number(r["psnr"], "%.1f") + "</td><td>" + number(r["visible_fraction"], "%.4f") + "</td><td>" +
-             (r["cached"].get<bool>() ? std::string("cached") : number(r["ms"], "%.0f")) + "</td></tr>\n";
+             (outside ? std::string("made elsewhere") : r["cached"].get<bool>() ? std::string("cached")
+                                                                      : number(r["ms"], "%.0f")) + "</td></tr>\n";
     }
     h += "</table>\n<p>Numbers: <a href=\"metrics.json\">metrics.json</a>. Images: <code>.png</code> composited over "
          "black; <code>.npy</code> float32 premultiplied RGBA beside them.</p>\n" + load_check_script() +

@@ -7,7 +7,7 @@
 
 namespace uvr {
 
-ErrorMeasures measure_errors(const Image& a, const Image& r)
+ErrorMeasures measure_errors(const Image& a, const Image& r, int channels)
 {
     if (a.width != r.width || a.height != r.height)
         throw InputError("", "cannot compare a " + std::to_string(a.width) + "x" + std::to_string(a.height) +
@@ -19,7 +19,7 @@ ErrorMeasures measure_errors(const Image& a, const Image& r)
     const std::size_t n = a.rgba.size() / 4;
     for (std::size_t p = 0; p < n; ++p) {
         double worst = 0.0;
-        for (int c = 0; c < 4; ++c) {
+        for (int c = 0; c < channels; ++c) {
             const double d = std::fabs(double(a.rgba[4 * p + c]) - double(r.rgba[4 * p + c]));
             sum += d * d;
             worst = std::max(worst, d);
@@ -27,19 +27,19 @@ ErrorMeasures measure_errors(const Image& a, const Image& r)
         m.max_abs = std::max(m.max_abs, worst);
         visible += worst > 1.0 / 255.0 ? 1 : 0;
     }
-    m.rmse = n ? std::sqrt(sum / double(4 * n)) : 0.0;
+    m.rmse = n ? std::sqrt(sum / double(std::size_t(channels) * n)) : 0.0;
     m.psnr = m.rmse > 0.0 ? 20.0 * std::log10(1.0 / m.rmse) : INFINITY;
     m.visible_fraction = n ? double(visible) / double(n) : 0.0;
     return m;
 }
 
-std::vector<float> pixel_errors(const Image& a, const Image& r)
+std::vector<float> pixel_errors(const Image& a, const Image& r, int channels)
 {
-    measure_errors(a, r);  // size check
+    measure_errors(a, r, channels);  // size check
     std::vector<float> e(a.rgba.size() / 4);
     for (std::size_t p = 0; p < e.size(); ++p) {
         float worst = 0.0f;
-        for (int c = 0; c < 4; ++c) worst = std::max(worst, std::fabs(a.rgba[4 * p + c] - r.rgba[4 * p + c]));
+        for (int c = 0; c < channels; ++c) worst = std::max(worst, std::fabs(a.rgba[4 * p + c] - r.rgba[4 * p + c]));
         e[p] = worst;
     }
     return e;

@@ -16,11 +16,12 @@ struct ErrorMeasures {
     double visible_fraction = 0.0;  // pixels whose largest channel error exceeds 1/255
 };
 
-// Throws InputError when the sizes differ.
-ErrorMeasures measure_errors(const Image& image, const Image& reference);
+// Throws InputError when the sizes differ. `channels` 3 compares colour only: the image's RGB against the
+// reference's premultiplied RGB, which is its colour over black (an outside image without alpha, uvr compare --image).
+ErrorMeasures measure_errors(const Image& image, const Image& reference, int channels = 4);
 
-// The largest channel error of each pixel, row 0 at the top.
-std::vector<float> pixel_errors(const Image& image, const Image& reference);
+// The largest channel error of each pixel (over `channels`, as above), row 0 at the top.
+std::vector<float> pixel_errors(const Image& image, const Image& reference, int channels = 4);
 
 // The heat-map scale: errors are shown on a logarithmic axis from kHeatMin (1e-6, below which float32 images of
 // values near 1 cannot differ meaningfully) to kHeatMax (1, the largest possible difference).

@@ -1,7 +1,9 @@
 #include "reference/image.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 
 #include <png.h>
@@ -29,7 +31,7 @@ void write_npy(const std::string& path, const Image& image)
     write_file_atomically(path, out);
 }
 
-Image read_npy(const std::string& path)
+Image read_npy(const std::string& path, int* channels)
 {
     const std::string data = read_file_bytes(path);
     if (data.size() < 10 || data.compare(0, 6, "\x93NUMPY") != 0) throw InputError(path, "not a .npy file");
@@ -62,6 +64,7 @@ Image read_npy(const std::string& path)
         throw InputError(path, ".npy holds " + std::to_string(data.size() - start - hlen) + " data bytes, expected " +
                                    std::to_string(n * 4));
     Image img(static_cast<int>(dims[1]), static_cast<int>(dims[0]));
+    if (channels) *channels = int(dims[2]);
     const char* src = data.data() + start + hlen;
     if (dims[2] == 4) {
         std::memcpy(img.rgba.data(), src, n * 4);
@@ -135,6 +138,99 @@ void parse_size(const std::string& text, int& width, int& height)
         throw InputError("", "--size must be WxH with 1 <= W, H <= 16384, found '" + text + "'");
     width = w;
     height = h;
+}
+
+namespace {
+
+Image read_pfm(const std::string& path)
+{
+    const std::string data = read_file_bytes(path);
+    // Header: "PF" (colour) or "Pf" (grey), width and height, a scale whose sign gives the byte order (negative:
+    // little-endian), each followed by white space; then the rows from the bottom.
+    std::size_t at = 0;
+    auto token = [&]() {
+        while (at < data.size() && std::isspace(static_cast<unsigned char>(data[at]))) ++at;
+        const std::size_t from = at;
+        while (at < data.size() && !std::isspace(static_cast<unsigned char>(data[at]))) ++at;
+        return data.substr(from, at - from);
+    };
+    const std::string magic = token();
+    if (magic != "PF" && magic != "Pf") throw InputError(path, "not a PFM file (it must start with PF or Pf)");
+    const int channels = magic == "PF" ? 3 : 1;
+    char* end = nullptr;
+    const std::string ws = token(), hs = token(), ss = token();
+    const long w = std::strtol(ws.c_str(), &end, 10);
+    const bool w_ok = end && *end == 0;
+    const long h = std::strtol(hs.c_str(), &end, 10);
+    const bool h_ok = end && *end == 0;
+    const double scale = std::strtod(ss.c_str(), &end);
+    if (!w_ok || !h_ok || !(end && *end == 0) || w <= 0 || h <= 0 || w > 65536 || h > 65536 || scale == 0.0 ||
+        !std::isfinite(scale))
+        throw InputError(path, "malformed PFM header (width, height and a non-zero scale expected)");
+    if (scale > 0.0) throw InputError(path, "big-endian PFM (positive scale) is not supported; write it little-endian");
+    ++at;  // the single white-space character after the scale
+    const std::size_t n = std::size_t(w) * std::size_t(h) * std::size_t(channels);
+    if (data.size() < at || data.size() - at != n * 4)
+        throw InputError(path, "PFM holds " + std::to_string(data.size() < at ? 0 : data.size() - at) +
+                                   " data bytes, expected " + std::to_string(n * 4));
+    Image img{int(w), int(h)};
+    for (long y = 0; y < h; ++y)
+        for (long x = 0; x < w; ++x) {
+            float v[3];
+            const char* src = data.data() + at + (std::size_t(y) * std::size_t(w) + std::size_t(x)) * channels * 4;
+            std::memcpy(v, src, std::size_t(channels) * 4);
+            if (channels == 1) v[1] = v[2] = v[0];
+            float* dst = &img.rgba[(std::size_t(h - 1 - y) * std::size_t(w) + std::size_t(x)) * 4];  // row 0 on top
+            dst[0] = v[0];
+            dst[1] = v[1];
+            dst[2] = v[2];
+            dst[3] = 1.0f;
+        }
+    return img;
+}
+
+Image read_png(const std::string& path)
+{
+    png_image png{};
+    png.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_file(&png, path.c_str()))
+        throw InputError(path, std::string("not a readable PNG: ") + png.message);
+    png.format = PNG_FORMAT_RGBA;
+    if (png.width == 0 || png.height == 0 || png.width > 65536 || png.height > 65536) {
+        png_image_free(&png);
+        throw InputError(path, "PNG size out of range");
+    }
+    std::vector<unsigned char> rgba(PNG_IMAGE_SIZE(png));
+    if (!png_image_finish_read(&png, nullptr, rgba.data(), 0, nullptr))
+        throw InputError(path, std::string("cannot decode the PNG: ") + png.message);
+    Image img(int(png.width), int(png.height));
+    for (std::size_t p = 0; p < std::size_t(png.width) * png.height; ++p) {
+        // Composited over black: colour times alpha (the premultiplied colour a renderer shows on black).
+        const float a = float(rgba[4 * p + 3]) / 255.0f;
+        for (int c = 0; c < 3; ++c) img.rgba[4 * p + std::size_t(c)] = float(rgba[4 * p + std::size_t(c)]) / 255.0f * a;
+        img.rgba[4 * p + 3] = 1.0f;
+    }
+    return img;
+}
+
+}  // namespace
+
+OutsideImage read_outside_image(const std::string& path)
+{
+    const std::string ext = file_extension(path);
+    if (ext == ".npy") {
+        OutsideImage o;
+        int channels = 4;
+        o.image = read_npy(path, &channels);
+        o.colour_only = channels == 3;  // read_npy gave it alpha 1: only its colour means anything
+        return o;
+    }
+    if (ext == ".pfm") return {read_pfm(path), true};
+    if (ext == ".png") return {read_png(path), true};
+    if (ext == ".exr")
+        throw InputError(path, "OpenEXR images are not read yet (Debian's libopenexr-dev is not a dependency); "
+                               "write .npy, .pfm or .png");
+    throw InputError(path, "unsupported image format '" + ext + "' (use .npy, .pfm or .png)");
 }
 
 }  // namespace uvr

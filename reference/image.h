@@ -26,7 +26,17 @@ void write_npy(const std::string& path, const Image& image);
 void write_png(const std::string& path, const Image& image, glm::dvec3 background);
 
 // Reads a float32 H x W x 4 (or H x W x 3, alpha 1) .npy written by uvr or numpy. Throws InputError on anything else.
-Image read_npy(const std::string& path);
+Image read_npy(const std::string& path, int* channels = nullptr);  // channels: 4, or 3 (alpha set to 1)
+
+// An image made by another renderer, to be measured against uvr's reference (uvr compare --image), by extension:
+// .npy (H x W x 4 float32 premultiplied RGBA, row 0 on top, as uvr writes; H x W x 3: colour only), .pfm (float RGB,
+// rows from the bottom as the format stores them; colour only), .png (8-bit RGB, or RGBA composited over black; colour
+// only, in steps of 1/255). Throws InputError naming the file and what is wrong.
+struct OutsideImage {
+    Image image;
+    bool colour_only = false;  // no alpha: only the colour over black can be compared
+};
+OutsideImage read_outside_image(const std::string& path);
 
 // 8-bit RGB(A) rows for a PNG of arbitrary content (error heat-maps, diagnostics), written atomically.
 void write_png_rgb8(const std::string& path, int width, int height, const std::vector<unsigned char>& rgb);
