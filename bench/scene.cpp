@@ -12,7 +12,10 @@ namespace uvr::cli {
 void add_scene_options(CLI::App& cmd, SceneOptions& o)
 {
     add_input_options(cmd, o.input);
-    cmd.add_option("--tf", o.tf_path, "Transfer function JSON (default: a ramp over the field's range)");
+    cmd.add_option("--tf", o.tf_path,
+                   "Transfer function JSON, or preset:NAME (viridis, inferno, plasma, cool-to-warm, grayscale, jet) "
+                   "on the default opacity (default: a ramp over the field's range; on a regular grid transparent "
+                   "around the most common value)");
     cmd.add_option("--camera", o.camera_path, "Camera JSON (default: the whole mesh seen from +z)");
     cmd.add_option("--view", o.view, "Orbit the default camera: AZIMUTH,ELEVATION in degrees");
     cmd.add_option("--size", o.size, "Image size WxH")->capture_default_str();
@@ -47,8 +50,17 @@ Scene setup_scene(const SceneOptions& o)
         b = volume_bounds(*s.data.volume);
         range = volume_range(*s.data.volume);
     }
-    s.tf = o.tf_path.empty() ? default_transfer_function(range, glm::length(b.extent()))
-                             : load_transfer_function(o.tf_path);
+    // The default: over a regular grid transparent around the histogram's dominant (background) value; --tf
+    // preset:NAME puts one of ParaView's colour maps on the default's extinction.
+    const bool preset = o.tf_path.rfind("preset:", 0) == 0;
+    if (o.tf_path.empty() || preset) {
+        const double diagonal = glm::length(b.extent());
+        s.tf = s.data.volume ? default_volume_transfer_function(s.data.volume->values, range, diagonal)
+                             : default_transfer_function(range, diagonal);
+        if (preset) s.tf = with_colour_preset(s.tf, range, o.tf_path.substr(7));
+    } else {
+        s.tf = load_transfer_function(o.tf_path);
+    }
     if (!o.camera_path.empty() && !o.view.empty())
         throw InputError("", "give either --camera or --view, not both");
     if (!o.camera_path.empty()) {

@@ -1,6 +1,8 @@
 #include "reference/transfer_function.h"
 
 #include <algorithm>
+#include <array>
+#include <cctype>
 #include <cmath>
 
 #include <nlohmann/json.hpp>
@@ -174,6 +176,102 @@ TransferFunction default_transfer_function(Range range, double diagonal)
     static const double kShape[5][2] = {{0.0, 0.05}, {0.3, 1.0}, {0.55, 0.15}, {0.8, 0.9}, {1.0, 0.3}};
     for (const auto& n : kShape) tf.extinction.push_back({lo + d * n[0], k * n[1]});
     return tf;
+}
+
+TransferFunction default_volume_transfer_function(const std::vector<float>& values, Range range, double diagonal)
+{
+    TransferFunction tf = default_transfer_function(range, diagonal);
+    const double lo = range.lo, hi = range.hi > range.lo ? range.hi : range.lo + 1.0, d = hi - lo;
+    constexpr int kBins = 256;
+    std::vector<std::size_t> count(kBins, 0);
+    for (float v : values) {
+        if (!std::isfinite(v)) continue;
+        const int b = std::clamp(int((double(v) - lo) / d * kBins), 0, kBins - 1);
+        ++count[std::size_t(b)];
+    }
+    const int mode = int(std::max_element(count.begin(), count.end()) - count.begin());  // first of the most common
+    // Transparent over [band_lo, band_hi], ramping back to the default over kBackgroundMargin on each side.
+    const double band_lo = lo + d * (double(mode) / kBins - kBackgroundMargin);
+    const double band_hi = lo + d * (double(mode + 1) / kBins + kBackgroundMargin);
+    const double ramp = d * kBackgroundMargin;
+    auto window = [&](double s) {
+        if (s >= band_lo && s <= band_hi) return 0.0;
+        const double away = s < band_lo ? band_lo - s : s - band_hi;
+        return std::min(1.0, away / ramp);
+    };
+    // The product of two piecewise-linear functions, sampled on 128 intervals and at the window's corners.
+    std::vector<double> at;
+    for (int i = 0; i <= 128; ++i) at.push_back(lo + d * i / 128.0);
+    for (double s : {band_lo - ramp, band_lo, band_hi, band_hi + ramp})
+        if (s > lo && s < hi) at.push_back(s);
+    for (const ExtinctionNode& n : tf.extinction) at.push_back(n.s);
+    std::sort(at.begin(), at.end());
+    at.erase(std::unique(at.begin(), at.end()), at.end());
+    std::vector<ExtinctionNode> ext;
+    for (double s : at) ext.push_back({s, tf.tau_at(s) * window(s)});
+    tf.extinction = ext;
+    return tf;
+}
+
+namespace {
+
+struct ColourPreset {
+    const char* paraview_name;
+    const char* short_name;
+    std::vector<std::array<double, 3>> rgb;  // equally spaced over the range
+};
+
+const std::vector<ColourPreset>& colour_presets()
+{
+    // Sampled from the colour maps as ParaView ships them (matplotlib's for the first three; Moreland's diverging map).
+    static const std::vector<ColourPreset> presets = {
+        {"Viridis (matplotlib)", "viridis",
+         {{0.267, 0.005, 0.329}, {0.231, 0.322, 0.545}, {0.129, 0.569, 0.549}, {0.369, 0.788, 0.384},
+          {0.993, 0.906, 0.144}}},
+        {"Inferno (matplotlib)", "inferno",
+         {{0.001, 0.000, 0.014}, {0.259, 0.039, 0.408}, {0.576, 0.149, 0.404}, {0.867, 0.318, 0.227},
+          {0.988, 0.645, 0.040}, {0.988, 1.000, 0.645}}},
+        {"Plasma (matplotlib)", "plasma",
+         {{0.050, 0.030, 0.528}, {0.416, 0.000, 0.659}, {0.694, 0.165, 0.565}, {0.881, 0.392, 0.383},
+          {0.988, 0.652, 0.211}, {0.940, 0.975, 0.131}}},
+        {"Cool to Warm", "cool-to-warm", {{0.230, 0.299, 0.754}, {0.865, 0.865, 0.865}, {0.706, 0.016, 0.150}}},
+        {"Grayscale", "grayscale", {{0.0, 0.0, 0.0}, {1.0, 1.0, 1.0}}},
+        {"Jet", "jet",
+         {{0.0, 0.0, 0.5}, {0.0, 0.0, 1.0}, {0.0, 0.5, 1.0}, {0.0, 1.0, 1.0}, {0.5, 1.0, 0.5}, {1.0, 1.0, 0.0},
+          {1.0, 0.5, 0.0}, {1.0, 0.0, 0.0}, {0.5, 0.0, 0.0}}},
+    };
+    return presets;
+}
+
+std::string lower(std::string s)
+{
+    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+}  // namespace
+
+std::vector<std::string> colour_preset_names()
+{
+    std::vector<std::string> names;
+    for (const ColourPreset& p : colour_presets()) names.push_back(p.paraview_name);
+    return names;
+}
+
+TransferFunction with_colour_preset(TransferFunction tf, Range range, const std::string& name)
+{
+    const double lo = range.lo, d = range.hi > range.lo ? range.hi - range.lo : 1.0;
+    for (const ColourPreset& p : colour_presets()) {
+        if (lower(name) != lower(p.paraview_name) && lower(name) != p.short_name) continue;
+        tf.color.clear();
+        const std::size_t n = p.rgb.size();
+        for (std::size_t i = 0; i < n; ++i)
+            tf.color.push_back({lo + d * double(i) / double(n - 1), {p.rgb[i][0], p.rgb[i][1], p.rgb[i][2]}});
+        return tf;
+    }
+    std::string known;
+    for (const ColourPreset& p : colour_presets()) known += (known.empty() ? "" : ", ") + std::string(p.short_name);
+    throw InputError("", "unknown colour preset '" + name + "' (known: " + known + ", or their ParaView names)");
 }
 
 std::string transfer_function_json(const TransferFunction& tf)

@@ -43,6 +43,19 @@ TransferFunction parse_transfer_function(const std::string& json_text, const std
 inline constexpr double kDefaultOpticalDepth = 4.0;
 TransferFunction default_transfer_function(Range range, double bounds_diagonal);
 
+// The default for a regular grid: default_transfer_function, made transparent over the band of values around the
+// histogram's most common value (256 bins over the range; the band reaches kBackgroundMargin of the range beyond that
+// bin on each side, with linear ramps as wide), so that the dominant background (air around a CT scan, the empty space
+// of a simulation box) does not fog the view. docs/user-guide.md, "Regular grids".
+inline constexpr double kBackgroundMargin = 0.02;
+TransferFunction default_volume_transfer_function(const std::vector<float>& values, Range range, double bounds_diagonal);
+
+// --tf preset:NAME: the default extinction under one of ParaView's common colour maps, by its ParaView name or short
+// name, case-insensitive: "Viridis (matplotlib)" / viridis, "Inferno (matplotlib)" / inferno, "Plasma (matplotlib)" /
+// plasma, "Cool to Warm" / cool-to-warm, "Grayscale" / grayscale, "Jet" / jet. Throws InputError listing them.
+TransferFunction with_colour_preset(TransferFunction tf, Range range, const std::string& name);
+std::vector<std::string> colour_preset_names();
+
 std::string transfer_function_json(const TransferFunction& tf);
 
 }  // namespace uvr

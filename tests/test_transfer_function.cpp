@@ -103,3 +103,56 @@ TEST_CASE("the default transfer function spans the range and scales with the mes
     const TransferFunction c = parse_transfer_function(transfer_function_json(a), "roundtrip");
     CHECK(c.tau_at(2.7) == a.tau_at(2.7));
 }
+
+TEST_CASE("the default transfer function of a regular grid is transparent around its dominant background value")
+{
+    const uvr::Range range{0.0, 100.0};
+    const double diagonal = 10.0;
+    const uvr::TransferFunction plain = uvr::default_transfer_function(range, diagonal);
+    SECTION("background at the bottom of the range (air around a scan)")
+    {
+        std::vector<float> values(9000, 2.0f);  // 90 % background in the bin [1.95, 2.34)
+        for (int i = 0; i < 1000; ++i) values.push_back(float(10 + i % 90));
+        const uvr::TransferFunction tf = uvr::default_volume_transfer_function(values, range, diagonal);
+        // The background bin and kBackgroundMargin (2 of 100) beyond it on each side: no extinction.
+        for (double s : {0.0, 1.0, 2.0, 2.3, 4.2}) {
+            INFO("s = " << s);
+            CHECK(tf.tau_at(s) == 0.0);
+        }
+        // Beyond the ramp (another 2) the default's extinction, at the default's own nodes and on the sampled grid.
+        for (double s : {10.0, 30.0, 55.0, 80.0, 100.0}) {
+            INFO("s = " << s);
+            CHECK(tf.tau_at(s) == Approx(plain.tau_at(s)).epsilon(1e-12));
+            CHECK(tf.tau_at(s) > 0.0);
+        }
+        CHECK(tf.color.size() == plain.color.size());  // the colours are the default's
+    }
+    SECTION("background at the top of the range (an inverted scan)")
+    {
+        std::vector<float> values(9000, 99.5f);
+        for (int i = 0; i < 1000; ++i) values.push_back(float(i % 90));
+        const uvr::TransferFunction tf = uvr::default_volume_transfer_function(values, range, diagonal);
+        CHECK(tf.tau_at(99.5) == 0.0);
+        CHECK(tf.tau_at(100.0) == 0.0);
+        CHECK(tf.tau_at(30.0) == Approx(plain.tau_at(30.0)).epsilon(1e-12));
+    }
+}
+
+TEST_CASE("--tf preset:NAME puts a ParaView colour map on the default extinction, by either name")
+{
+    const uvr::Range range{-1.0, 3.0};
+    const uvr::TransferFunction plain = uvr::default_transfer_function(range, 2.0);
+    const uvr::TransferFunction gray = uvr::with_colour_preset(plain, range, "Grayscale");
+    CHECK(gray.color_at(-1.0) == glm::dvec3(0.0));
+    CHECK(gray.color_at(3.0) == glm::dvec3(1.0));
+    CHECK(gray.color_at(1.0).x == Approx(0.5));
+    CHECK(gray.tau_at(0.2) == plain.tau_at(0.2));  // the extinction is untouched
+    const uvr::TransferFunction warm = uvr::with_colour_preset(plain, range, "cool-to-warm");
+    const uvr::TransferFunction warm_pv = uvr::with_colour_preset(plain, range, "COOL TO WARM");
+    CHECK(warm.color_at(0.7) == warm_pv.color_at(0.7));
+    CHECK(warm.color_at(1.0).x == Approx(0.865));  // Moreland's map is grey in the middle
+    CHECK(uvr::colour_preset_names().size() == 6);
+    CHECK_THROWS_WITH(uvr::with_colour_preset(plain, range, "rainbowish"),
+                      Catch::Matchers::Contains("unknown colour preset 'rainbowish'") &&
+                          Catch::Matchers::Contains("viridis"));
+}
