@@ -33,6 +33,7 @@ std::unique_ptr<ArbFunctions> load_arb_functions(const GlContext& ctx)
     load(f->MatrixMode, "glMatrixMode");
     load(f->LoadMatrixf, "glLoadMatrixf");
     load(f->EnableClientState, "glEnableClientState");
+    load(f->DisableClientState, "glDisableClientState");
     load(f->ClientActiveTexture, "glClientActiveTexture");
     load(f->VertexPointer, "glVertexPointer");
     load(f->TexCoordPointer, "glTexCoordPointer");
@@ -252,6 +253,8 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
     st.flush_ms = ms_since(t0);
     gl.Disable(arb::kVertexProgram);
     gl.Disable(arb::kFragmentProgram);
+    arb.DisableClientState(arb::kTexCoordArray);  // the context may serve another driver or harness next
+    arb.DisableClientState(arb::kVertexArray);
 
     t0 = Clock::now();
     const std::vector<glm::vec4> colour = gl_->framebuffer->read(0);

@@ -36,6 +36,7 @@ struct ArbFunctions {
     void (*MatrixMode)(GLenum) = nullptr;
     void (*LoadMatrixf)(const GLfloat*) = nullptr;
     void (*EnableClientState)(GLenum) = nullptr;
+    void (*DisableClientState)(GLenum) = nullptr;
     void (*ClientActiveTexture)(GLenum) = nullptr;
     void (*VertexPointer)(GLint, GLenum, GLsizei, const void*) = nullptr;
     void (*TexCoordPointer)(GLint, GLenum, GLsizei, const void*) = nullptr;

@@ -355,6 +355,11 @@ ArbKBufferResults GlHavsArbHarness::run(const PreintegrationTable& table, float 
         gl.Finish();
         gl.Disable(arb::kVertexProgram);
         gl.Disable(arb::kFragmentProgram);
+        for (GLenum unit : {GL_TEXTURE1, GL_TEXTURE0}) {  // the arrays point into this pass's buffer, deleted next
+            arb.ClientActiveTexture(unit);
+            arb.DisableClientState(arb::kTexCoordArray);
+        }
+        arb.DisableClientState(arb::kVertexArray);
         ctx_.check_error("the ARB harness pass");
         std::vector<float> read(std::size_t(W) * H * 4);
         gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
