@@ -138,7 +138,7 @@ TEST_CASE("the default transfer function of a regular grid is transparent around
     }
 }
 
-TEST_CASE("--tf preset:NAME puts a ParaView colour map on the default extinction, by either name")
+TEST_CASE("a colour preset (--tf preset:NAME) puts a ParaView colour map on the default extinction, by either name")
 {
     const uvr::Range range{-1.0, 3.0};
     const uvr::TransferFunction plain = uvr::default_transfer_function(range, 2.0);
