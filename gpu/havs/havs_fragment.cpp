@@ -132,7 +132,12 @@ namespace {
 // plus the incoming fragment); a larger k takes a per-thread buffer.
 constexpr int kStackEntries = 256;
 
-bool real_entry(const KEntry& e) { return e.y > 0.0f && e.y < kSeedFlushFragment.y; }  // nearer than either flush
+// A real entry: neither empty nor a flush fragment (nearer than the encoding's flush distance, as
+// havs_real_entry in shaders/havs_fragment.frag).
+bool real_entry(const HavsFrameConstants& fc, const KEntry& e)
+{
+    return e.y > 0.0f && e.y < (fc.seed_entries ? kSeedFlushFragment.y : kFlushFragment.y);
+}
 // The normalized scalar of an entry (see the entry encoding in havs_fragment.h).
 float decode_scalar(float x)
 {
@@ -153,38 +158,32 @@ bool composite_segment(const HavsFrameConstants& fc, KEntry front, KEntry second
     if (fc.seed_entries) {
         // --entries seed: CMP c, r0.x, 0.0, c alone, and the scalars are the table's coordinates as they are.
         if (!(front.x < 0.0f)) c = shade(front.x, second.x, length * fc.length_scale + fc.length_bias, length);
-        if (diag && real_entry(front)) {
-            if (front.y < diag->last_back) ++diag->ordering_errors;
-            if (real_entry(second)) diag->last_back = std::fmax(diag->last_back, second.y);
+    } else {
+        // A segment that ends on a flush fragment (distance +inf) never lies inside the mesh: it starts on the last
+        // fragment of the pixel, which is an exit face unless fragments at one distance (a ray exactly through a
+        // surface vertex) were ordered exit-first by rounding. Nor does one that ends on an entry face (exact gaps):
+        // the ray is outside the mesh before it enters. Such a segment's front is an exit face (nullified anyway) or
+        // a fragment that rasterization put in front of the entry face: an interior face sharing an edge with it,
+        // covering a pixel just past that edge through snapping and extrapolated at a grazing angle (0.0027 units in
+        // front on an Oxygen Post pixel, docs/havs.md).
+        const bool nullified = front.x < 0.0f || std::isinf(second.y) || second.x >= kSideEntry ||
+                               (fc.max_gap > 0.0f && length > fc.max_gap);
+        if (!nullified) {
+            const float t_z = length * fc.length_scale + fc.length_bias;
+            c = shade(decode_scalar(front.x), decode_scalar(second.x), t_z, length);
         }
-        const float one_minus_a = 1.0f - fb.a;
-        fb = glm::vec4(c.r * one_minus_a + fb.r, c.g * one_minus_a + fb.g, c.b * one_minus_a + fb.b,
-                       c.a * one_minus_a + fb.a);
-        return false;
-    }
-    // A segment that ends on a flush fragment (distance +inf) never lies inside the mesh: it starts on the last
-    // fragment of the pixel, which is an exit face unless fragments at one distance (a ray exactly through a surface
-    // vertex) were ordered exit-first by rounding. Nor does one that ends on an entry face (exact gaps): the ray is
-    // outside the mesh before it enters. Such a segment's front is an exit face (nullified anyway) or a fragment that
-    // rasterization put in front of the entry face: an interior face sharing an edge with it, covering a pixel just
-    // past that edge through snapping and extrapolated at a grazing angle (0.0027 units in front on an Oxygen Post
-    // pixel, docs/havs.md).
-    const bool nullified = front.x < 0.0f || std::isinf(second.y) || second.x >= kSideEntry ||
-                           (fc.max_gap > 0.0f && length > fc.max_gap);
-    if (!nullified) {
-        const float t_z = length * fc.length_scale + fc.length_bias;
-        c = shade(decode_scalar(front.x), decode_scalar(second.x), t_z, length);
     }
     // Ordering: in front-to-back order each segment starts where the previous one ended. A front nearer than the
     // previous segment's back means a fragment arrived after the segment across it was composited.
-    if (diag && real_entry(front)) {
+    if (diag && real_entry(fc, front)) {
         if (front.y < diag->last_back) ++diag->ordering_errors;
-        if (real_entry(second)) diag->last_back = std::fmax(diag->last_back, second.y);
+        if (real_entry(fc, second)) diag->last_back = std::fmax(diag->last_back, second.y);
     }
     // Front to back: fb = c * (1 - fb.a) + fb, per channel (MAD, unfused).
     const float one_minus_a = 1.0f - fb.a;
     fb = glm::vec4(c.r * one_minus_a + fb.r, c.g * one_minus_a + fb.g, c.b * one_minus_a + fb.b,
                    c.a * one_minus_a + fb.a);
+    if (fc.seed_entries) return false;  // the seed's program re-marks nothing
     // Exact gaps: behind an exit face the ray is outside the mesh until it meets an entry face. Rasterization can put
     // a fragment there: a pixel just past the edge where interior faces meet the exit face is covered through
     // snapping, and their planes, extrapolated at a grazing angle, place the fragment a little behind the exit (2e-5
@@ -192,7 +191,7 @@ bool composite_segment(const HavsFrameConstants& fc, KEntry front, KEntry second
     // fragment, extrapolated (kSideOutside) and right behind an exit, is marked an exit in the buffer, so that the
     // segment starting on it is a gap too. A fragment inside its own triangle is left alone: behind an exit it is a
     // real one that arrived late (an ordering error), and its segment is real.
-    return real_entry(front) && front.x < 0.0f && real_entry(second) && second.x >= kSideOutside &&
+    return real_entry(fc, front) && front.x < 0.0f && real_entry(fc, second) && second.x >= kSideOutside &&
            second.x < kSideEntry;
 }
 
@@ -203,7 +202,7 @@ bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm
 {
     // KIL (threshold - alpha): the seed kills the fragment once the pixel is opaque enough; nothing is written.
     if (fc.threshold - fb.a < 0.0f) return false;
-    if (diag && real_entry(a0)) ++diag->fragments;
+    if (diag && real_entry(fc, a0)) ++diag->fragments;
     // Find the entry with the smallest distance (r0); the others go to r1..rk. The seed's CMP: on t < 0 the running
     // minimum stays; otherwise (ties included) the stored entry becomes the minimum and the running one moves on, so
     // on a tie the entry already in the buffer is composited first.
@@ -243,7 +242,7 @@ bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm
     uint32_t held = 0;
     for (int i = 1; i <= k; ++i) {
         a[i - 1] = KEntry{rx[i], ry[i]};
-        held += real_entry(a[i - 1]) ? 1u : 0u;
+        held += real_entry(fc, a[i - 1]) ? 1u : 0u;
     }
     if (diag && held > diag->max_held) diag->max_held = held;
     return true;
