@@ -32,7 +32,7 @@ nlohmann::json measures_json(const ErrorMeasures& e)
 {
     return {{"rmse", e.rmse}, {"max_abs", e.max_abs},
             {"psnr", std::isfinite(e.psnr) ? nlohmann::json(e.psnr) : nlohmann::json(nullptr)},
-            {"visible_fraction", e.visible_fraction}};
+            {"visible_fraction", e.visible_fraction}, {"covered_left_empty", e.covered_left_empty}};
 }
 
 }  // namespace
@@ -143,8 +143,8 @@ void register_compare(CLI::App& app)
     cmd->add_option("--algos", a->algos, "Comma-separated algorithms")->capture_default_str();
     cmd->add_option("--report", a->report, "Directory for images, error maps, metrics.json, index.html")->required();
     cmd->add_option("--image", a->images,
-                    "An image of the same scene made elsewhere (.npy float32 premultiplied RGBA, row 0 on top; .pfm; "
-                    ".png: colour only), measured against the reference like the algorithms; repeatable");
+                    "An image of the same scene made elsewhere (.npy float32 premultiplied RGBA, row 0 on top; .exr; "
+                    ".pfm; .png: colour only), measured against the reference like the algorithms; repeatable");
     cmd->add_option("--label", a->labels, "The name of each --image on the page (default: the file's name)");
     cmd->add_flag("--json", a->json, "Print metrics.json's object on stdout");
     cmd->callback([a] {

@@ -50,14 +50,15 @@ void register_render(CLI::App& app)
     add_scene_options(*cmd, a->scene);
     add_algo_options(*cmd, a->algo_options);
     cmd->add_option("--algo", a->algo, "reference | havs | vicp | raycast")->capture_default_str();
-    cmd->add_option("--out", a->out, "Output image (.npy float32 RGBA, or .png)")->required();
+    cmd->add_option("--out", a->out, "Output image (.npy float32 RGBA, .exr float RGBA, or .png)")->required();
     cmd->add_option("--diagnostics", a->diagnostics,
                     "HAVS: directory for per-pixel fragment, held-entry and ordering-error images");
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     cmd->callback([a] {
         // Fail on an unknown output format before spending time on the render.
         const std::string ext = file_extension(a->out);
-        if (ext != ".npy" && ext != ".png") throw InputError(a->out, "unsupported image extension (use .npy or .png)");
+        if (ext != ".npy" && ext != ".exr" && ext != ".png")
+            throw InputError(a->out, "unsupported image extension (use .npy, .exr or .png)");
         a->algo_options.require_diagnostics = !a->diagnostics.empty();
         const Scene s = setup_scene(a->scene);
         const AlgoResult r = run_algorithm(s, a->algo, a->algo_options);

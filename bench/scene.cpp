@@ -33,9 +33,16 @@ std::string Scene::field_name() const { return data.mesh ? data.mesh->fields[fie
 
 Scene setup_scene(const SceneOptions& o)
 {
+    int width = 0, height = 0;
+    parse_size(o.size, width, height);  // a bad --size fails before the data is read
+    return setup_scene(load_input(o.input), o);
+}
+
+Scene setup_scene(Dataset data, const SceneOptions& o)
+{
     Scene s;
     parse_size(o.size, s.width, s.height);
-    s.data = load_input(o.input);
+    s.data = std::move(data);
     print_warnings(s.data);
     Bounds b;
     Range range;
@@ -46,14 +53,16 @@ Scene setup_scene(const SceneOptions& o)
         range = field_range(mesh.fields[s.field]);
     } else {
         if (!o.input.field.empty())
-            throw InputError(o.input.path, "is a regular grid with one scalar; --field is for meshes");
+            throw InputError(s.data.volume->source, "is a regular grid with one scalar; --field is for meshes");
         b = volume_bounds(*s.data.volume);
         range = volume_range(*s.data.volume);
     }
     // The default: over a regular grid transparent around the histogram's dominant (background) value; --tf
     // preset:NAME puts one of ParaView's colour maps on the default's extinction.
     const bool preset = o.tf_path.rfind("preset:", 0) == 0;
-    if (o.tf_path.empty() || preset) {
+    if (o.tf) {
+        s.tf = *o.tf;
+    } else if (o.tf_path.empty() || preset) {
         const double diagonal = glm::length(b.extent());
         s.tf = s.data.volume ? default_volume_transfer_function(s.data.volume->values, range, diagonal)
                              : default_transfer_function(range, diagonal);
@@ -61,9 +70,11 @@ Scene setup_scene(const SceneOptions& o)
     } else {
         s.tf = load_transfer_function(o.tf_path);
     }
-    if (!o.camera_path.empty() && !o.view.empty())
-        throw InputError("", "give either --camera or --view, not both");
-    if (!o.camera_path.empty()) {
+    const bool camera_given = !o.camera_path.empty() || o.camera;
+    if (camera_given && !o.view.empty()) throw InputError("", "give either --camera or --view, not both");
+    if (o.camera) {
+        s.camera = *o.camera;
+    } else if (!o.camera_path.empty()) {
         s.camera = load_camera(o.camera_path);
     } else {
         double az = 0.0, el = 0.0;

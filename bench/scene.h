@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -19,6 +20,9 @@ struct SceneOptions {
     std::string camera_path;
     std::string view;              // "AZ,EL" in degrees
     std::string size = "512x512";
+    // Given as values rather than files (the Python module): they replace --tf and --camera.
+    std::optional<TransferFunction> tf;
+    std::optional<Camera> camera;
 };
 
 // Adds the input options plus --tf, --camera, --view, --size.
@@ -40,5 +44,7 @@ struct Scene {
 
 // Loads and validates everything; throws InputError for anything wrong (a --camera and a --view together, say).
 Scene setup_scene(const SceneOptions& o);
+// The same on data already loaded (o.input names only the field; its path is not read).
+Scene setup_scene(Dataset data, const SceneOptions& o);
 
 }  // namespace uvr::cli

@@ -7,7 +7,7 @@
 
 namespace uvr {
 
-ErrorMeasures measure_errors(const Image& a, const Image& r, int channels)
+ErrorMeasures measure_errors(ImageView a, ImageView r, int channels)
 {
     if (a.width != r.width || a.height != r.height)
         throw InputError("", "cannot compare a " + std::to_string(a.width) + "x" + std::to_string(a.height) +
@@ -15,28 +15,34 @@ ErrorMeasures measure_errors(const Image& a, const Image& r, int channels)
                                  " reference");
     ErrorMeasures m;
     double sum = 0.0;
-    std::size_t visible = 0;
-    const std::size_t n = a.rgba.size() / 4;
+    std::size_t visible = 0, covered = 0, empty = 0;
+    const std::size_t n = std::size_t(a.width) * std::size_t(a.height);
     for (std::size_t p = 0; p < n; ++p) {
         double worst = 0.0;
+        bool blank = true;
         for (int c = 0; c < channels; ++c) {
             const double d = std::fabs(double(a.rgba[4 * p + c]) - double(r.rgba[4 * p + c]));
             sum += d * d;
             worst = std::max(worst, d);
+            blank = blank && a.rgba[4 * p + c] == 0.0f;
         }
         m.max_abs = std::max(m.max_abs, worst);
         visible += worst > 1.0 / 255.0 ? 1 : 0;
+        const bool covers = double(r.rgba[4 * p + 3]) > 1.0 / 255.0;
+        covered += covers ? 1 : 0;
+        empty += covers && blank ? 1 : 0;
     }
+    m.covered_left_empty = covered ? double(empty) / double(covered) : 0.0;
     m.rmse = n ? std::sqrt(sum / double(std::size_t(channels) * n)) : 0.0;
     m.psnr = m.rmse > 0.0 ? 20.0 * std::log10(1.0 / m.rmse) : INFINITY;
     m.visible_fraction = n ? double(visible) / double(n) : 0.0;
     return m;
 }
 
-std::vector<float> pixel_errors(const Image& a, const Image& r, int channels)
+std::vector<float> pixel_errors(ImageView a, ImageView r, int channels)
 {
     measure_errors(a, r, channels);  // size check
-    std::vector<float> e(a.rgba.size() / 4);
+    std::vector<float> e(std::size_t(a.width) * std::size_t(a.height));
     for (std::size_t p = 0; p < e.size(); ++p) {
         float worst = 0.0f;
         for (int c = 0; c < channels; ++c) worst = std::max(worst, std::fabs(a.rgba[4 * p + c] - r.rgba[4 * p + c]));

@@ -14,14 +14,17 @@ struct ErrorMeasures {
     double max_abs = 0.0;
     double psnr = 0.0;              // 20 log10(1 / rmse); +inf for identical images (JSON: null)
     double visible_fraction = 0.0;  // pixels whose largest channel error exceeds 1/255
+    // Not SPEC §4's, beside them for renderers that drop fragments: of the pixels the reference covers (alpha above
+    // 1/255, a visible coverage), the fraction where the image is empty (every compared channel exactly 0).
+    double covered_left_empty = 0.0;
 };
 
 // Throws InputError when the sizes differ. `channels` 3 compares colour only: the image's RGB against the
 // reference's premultiplied RGB, which is its colour over black (an outside image without alpha, uvr compare --image).
-ErrorMeasures measure_errors(const Image& image, const Image& reference, int channels = 4);
+ErrorMeasures measure_errors(ImageView image, ImageView reference, int channels = 4);
 
 // The largest channel error of each pixel (over `channels`, as above), row 0 at the top.
-std::vector<float> pixel_errors(const Image& image, const Image& reference, int channels = 4);
+std::vector<float> pixel_errors(ImageView image, ImageView reference, int channels = 4);
 
 // The heat-map scale: errors are shown on a logarithmic axis from kHeatMin (1e-6, below which float32 images of
 // values near 1 cannot differ meaningfully) to kHeatMax (1, the largest possible difference).

@@ -126,7 +126,8 @@ void write_image(const std::string& path, const Image& image, glm::dvec3 backgro
     const std::string ext = file_extension(path);
     if (ext == ".npy") return write_npy(path, image);
     if (ext == ".png") return write_png(path, image, background);
-    throw InputError(path, "unsupported image extension '" + ext + "' (use .npy or .png)");
+    if (ext == ".exr") return write_exr(path, image);
+    throw InputError(path, "unsupported image extension '" + ext + "' (use .npy, .exr or .png)");
 }
 
 void parse_size(const std::string& text, int& width, int& height)
@@ -215,7 +216,9 @@ Image read_png(const std::string& path)
 
 }  // namespace
 
-OutsideImage read_outside_image(const std::string& path)
+namespace {
+
+OutsideImage read_outside_image_as_stored(const std::string& path)
 {
     const std::string ext = file_extension(path);
     if (ext == ".npy") {
@@ -225,12 +228,31 @@ OutsideImage read_outside_image(const std::string& path)
         o.colour_only = channels == 3;  // read_npy gave it alpha 1: only its colour means anything
         return o;
     }
+    if (ext == ".exr") {
+        OutsideImage o;
+        bool alpha = false;
+        o.image = read_exr(path, &alpha);
+        o.colour_only = !alpha;
+        return o;
+    }
     if (ext == ".pfm") return {read_pfm(path), true};
     if (ext == ".png") return {read_png(path), true};
-    if (ext == ".exr")
-        throw InputError(path, "OpenEXR images are not read yet (Debian's libopenexr-dev is not a dependency); "
-                               "write .npy, .pfm or .png");
-    throw InputError(path, "unsupported image format '" + ext + "' (use .npy, .pfm or .png)");
+    throw InputError(path, "unsupported image format '" + ext + "' (use .npy, .exr, .pfm or .png)");
+}
+
+}  // namespace
+
+OutsideImage read_outside_image(const std::string& path)
+{
+    OutsideImage o = read_outside_image_as_stored(path);
+    // A NaN or an infinity would make every measure NaN or infinite: a silently meaningless number, so it is refused.
+    const Image& im = o.image;
+    for (std::size_t p = 0; p < im.rgba.size(); ++p)
+        if (!std::isfinite(im.rgba[p]))
+            throw InputError(path, "pixel (" + std::to_string(p / 4 % std::size_t(im.width)) + ", " +
+                                       std::to_string(p / 4 / std::size_t(im.width)) + ") channel " +
+                                       std::to_string(p % 4) + " is not finite");
+    return o;
 }
 
 }  // namespace uvr

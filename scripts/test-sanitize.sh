@@ -9,7 +9,7 @@ bash scripts/install-deps.sh
 jobs="${UVR_JOBS:-$(nproc)}"
 extra=()
 if [ -n "${UVR_DATA_DIR:-}" ]; then extra+=(-DUVR_DATA_DIR="$UVR_DATA_DIR"); fi
-cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DUVR_SANITIZE=ON "${extra[@]}" >/dev/null
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DUVR_SANITIZE=ON -DUVR_PYTHON=OFF "${extra[@]}" >/dev/null
 cmake --build build-asan -j "$jobs"
 # Mesa (OSMesa, EGL, llvmpipe's JIT) keeps allocations of its own alive past exit (OSMesaMakeCurrent's dispatch
 # tables, glapi state) even when uvr destroys its contexts; LeakSanitizer is told to ignore leaks whose stack is in

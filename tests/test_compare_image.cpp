@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include <ImfRgbaFile.h>
 #include <nlohmann/json.hpp>
 
 #include "reference/image.h"
@@ -23,7 +24,7 @@ constexpr double kMeasureRelative = 1e-12;
 constexpr const char* kScene = "builtin:torus-small --size 40x32 --view 30,50";
 
 struct Expected {
-    double rmse = 0, max_abs = 0, visible = 0;
+    double rmse = 0, max_abs = 0, visible = 0, covered_left_empty = 0;
 };
 
 // SPEC §4 over `channels` channels (4, or 3: colour against the reference's premultiplied colour).
@@ -31,20 +32,44 @@ Expected expected(const Image& a, const Image& ref, int channels)
 {
     Expected e;
     double sum = 0;
-    std::size_t visible = 0, n = std::size_t(a.width) * std::size_t(a.height);
+    std::size_t visible = 0, covered = 0, empty = 0, n = std::size_t(a.width) * std::size_t(a.height);
     for (std::size_t p = 0; p < n; ++p) {
         double worst = 0;
+        int zeros = 0;
         for (int c = 0; c < channels; ++c) {
             const double d = std::fabs(double(a.rgba[4 * p + std::size_t(c)]) - double(ref.rgba[4 * p + std::size_t(c)]));
             sum += d * d;
             worst = std::max(worst, d);
+            zeros += a.rgba[4 * p + std::size_t(c)] == 0.0f ? 1 : 0;
         }
         e.max_abs = std::max(e.max_abs, worst);
         visible += worst > 1.0 / 255.0 ? 1 : 0;
+        if (double(ref.rgba[4 * p + 3]) > 1.0 / 255.0) {  // covered: alpha above 1/255
+            ++covered;
+            empty += zeros == channels ? 1 : 0;
+        }
     }
     e.rmse = std::sqrt(sum / double(std::size_t(channels) * n));
     e.visible = double(visible) / double(n);
+    e.covered_left_empty = double(empty) / double(covered);
     return e;
+}
+
+// An RGB half-float EXR, as many renderers write them: no alpha, so colour only, rounded to half by OpenEXR here.
+void write_half_rgb_exr(const std::string& path, const Image& im, Image& as_half)
+{
+    std::vector<Imf::Rgba> px(std::size_t(im.width) * std::size_t(im.height));
+    as_half = im;
+    for (std::size_t p = 0; p < px.size(); ++p) {
+        px[p] = Imf::Rgba(im.rgba[4 * p], im.rgba[4 * p + 1], im.rgba[4 * p + 2]);
+        as_half.rgba[4 * p] = float(px[p].r);
+        as_half.rgba[4 * p + 1] = float(px[p].g);
+        as_half.rgba[4 * p + 2] = float(px[p].b);
+        as_half.rgba[4 * p + 3] = 1.0f;
+    }
+    Imf::RgbaOutputFile out(path.c_str(), im.width, im.height, Imf::WRITE_RGB);
+    out.setFrameBuffer(px.data(), 1, std::size_t(im.width));
+    out.writePixels(im.height);
 }
 
 void write_pfm(const std::string& path, const Image& im)
@@ -69,6 +94,7 @@ void check_measures(const nlohmann::json& r, const Expected& e)
     CHECK(r["rmse"].get<double>() == Approx(e.rmse).epsilon(kMeasureRelative));
     CHECK(r["max_abs"].get<double>() == Approx(e.max_abs).epsilon(kMeasureRelative));
     CHECK(r["visible_fraction"].get<double>() == Approx(e.visible).epsilon(kMeasureRelative));
+    CHECK(r["covered_left_empty"].get<double>() == Approx(e.covered_left_empty).epsilon(kMeasureRelative));
 }
 
 }  // namespace
@@ -89,12 +115,19 @@ TEST_CASE("compare --image measures an outside image exactly as the test compute
         if (p % 5 == 0) bent.rgba[4 * p + 3] -= 0.003f;
     }
     bent.rgba[4 * 333 + 1] += 0.5f;
+    for (std::size_t p = 3; p < std::size_t(ref.width) * std::size_t(ref.height); p += 11)  // dropped fragments
+        for (int c = 0; c < 4; ++c) bent.rgba[4 * p + std::size_t(c)] = 0.0f;
     write_npy(tmp.file("bent.npy"), bent);
     write_pfm(tmp.file("bent.pfm"), bent);
     write_png(tmp.file("bent.png"), bent, glm::dvec3(0.0));
+    write_exr(tmp.file("bent.exr"), bent);
+    Image bent_half;
+    write_half_rgb_exr(tmp.file("bent-half.exr"), bent, bent_half);
     const auto r = run_uvr(std::string("compare ") + kScene + " --algos reference --image '" + tmp.file("bent.npy") +
                            "' --image '" + tmp.file("bent.pfm") + "' --image '" + tmp.file("bent.png") +
-                           "' --label npy --label pfm --label png --report '" + tmp.file("out") + "'");
+                           "' --image '" + tmp.file("bent.exr") + "' --image '" + tmp.file("bent-half.exr") +
+                           "' --label npy --label pfm --label png --label exr --label exr-half --report '" +
+                           tmp.file("out") + "'");
     INFO(r.err);
     REQUIRE(r.exit_code == 0);
     const auto m = nlohmann::json::parse(test::file_contents(tmp.file("out/metrics.json")));
@@ -103,6 +136,16 @@ TEST_CASE("compare --image measures an outside image exactly as the test compute
         check_measures(result(m, "npy"), expected(bent, ref, 4));
         CHECK(result(m, "npy")["colour_only"] == false);
         CHECK(std::filesystem::exists(tmp.file("out/npy-error.png")));
+    }
+    SECTION("an .exr with alpha (float RGBA): all four channels, as the .npy")
+    {
+        check_measures(result(m, "exr"), expected(bent, ref, 4));
+        CHECK(result(m, "exr")["colour_only"] == false);
+    }
+    SECTION("an .exr without alpha (half RGB): the colour as half floats hold it")
+    {
+        check_measures(result(m, "exr-half"), expected(bent_half, ref, 3));
+        CHECK(result(m, "exr-half")["colour_only"] == true);
     }
     SECTION("a .pfm (colour, rows from the bottom): the colour, as the test wrote it")
     {

@@ -1,6 +1,10 @@
 // Image files: .npy round trip, PNG compositing, atomic writes.
+#include <cmath>
 #include <csignal>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <limits>
 
 #include <sys/resource.h>
 
@@ -27,6 +31,58 @@ TEST_CASE("an image written as .npy reads back bit for bit with its shape")
     CHECK(raw.substr(0, 6) == "\x93NUMPY");
     CHECK((raw.size() - img.rgba.size() * 4) % 64 == 0);
     CHECK_THAT(raw, Catch::Contains("'shape': (2, 3, 4)"));
+}
+
+TEST_CASE("an image written as .exr reads back bit for bit, special values included")
+{
+    TempDir tmp("exr");
+    Image img(5, 3);
+    for (std::size_t i = 0; i < img.rgba.size(); ++i) img.rgba[i] = float(i) * 0.0173f - 0.2f;
+    // Values a half-float file would round or lose: they must come back with their bits (FLOAT channels).
+    img.pixel(0, 0)[0] = std::nextafter(1.0f, 0.0f);
+    img.pixel(1, 0)[1] = 1e-42f;  // subnormal
+    img.pixel(2, 0)[2] = -0.0f;
+    img.pixel(3, 0)[3] = 3.0e30f;
+    img.pixel(4, 2)[0] = 1.0f + 0x1p-23f;
+    write_image(tmp.file("a.exr"), img);
+    bool alpha = false;
+    const Image back = read_exr(tmp.file("a.exr"), &alpha);
+    CHECK(alpha);
+    REQUIRE(back.width == 5);
+    REQUIRE(back.height == 3);
+    for (std::size_t i = 0; i < img.rgba.size(); ++i) {
+        INFO("value " << i);
+        CHECK(std::memcmp(&back.rgba[i], &img.rgba[i], 4) == 0);
+    }
+    const OutsideImage o = read_outside_image(tmp.file("a.exr"));
+    CHECK(!o.colour_only);
+    CHECK(o.image.rgba == img.rgba);
+}
+
+TEST_CASE("an .exr that is cut short or is not OpenEXR is an error naming the file")
+{
+    TempDir tmp("exr-bad");
+    Image img(16, 16);
+    for (std::size_t i = 0; i < img.rgba.size(); ++i) img.rgba[i] = float(i % 97) / 97.0f;
+    write_image(tmp.file("whole.exr"), img);
+    const std::string whole = uvr::test::file_contents(tmp.file("whole.exr"));
+    std::ofstream(tmp.file("cut.exr"), std::ios::binary) << whole.substr(0, whole.size() / 2);
+    std::ofstream(tmp.file("text.exr"), std::ios::binary) << "not an exr";
+    require_input_error([&] { read_outside_image(tmp.file("cut.exr")); }, {"cut.exr"});
+    require_input_error([&] { read_outside_image(tmp.file("text.exr")); }, {"not a readable OpenEXR image"});
+}
+
+TEST_CASE("an outside image holding a value that is not finite is refused, naming the pixel")
+{
+    TempDir tmp("nonfinite");
+    Image img(4, 3);
+    img.pixel(2, 1)[1] = std::numeric_limits<float>::quiet_NaN();
+    write_npy(tmp.file("nan.npy"), img);
+    require_input_error([&] { read_outside_image(tmp.file("nan.npy")); }, {"pixel (2, 1) channel 1 is not finite"});
+    img.pixel(2, 1)[1] = 0.0f;
+    img.pixel(0, 2)[3] = std::numeric_limits<float>::infinity();
+    write_image(tmp.file("inf.exr"), img);
+    require_input_error([&] { read_outside_image(tmp.file("inf.exr")); }, {"pixel (0, 2) channel 3 is not finite"});
 }
 
 TEST_CASE("a PNG composites premultiplied colour over the background")

@@ -16,17 +16,21 @@ rounds=${ROUNDS:-3}
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 "$uvr" export "$@" --out "$dir" >/dev/null
-"$uvr" render "$@" --algo reference --no-cache --out "$dir/reference.npy"
 # Rounds alternate uvr and VTK, so that both see the same state of a shared machine; the ratios are taken within a
 # round, and their median is the figure reported (docs/gl-backend.md, "Speed").
 for r in $(seq 1 "$rounds"); do
   "$uvr" bench "$@" --algos havs --backend emu,gl,arb --gl "$gl" --k "$k" --repeat "$repeat" --json > "$dir/uvr-$r.json"
-  xvfb-run -a /usr/bin/python3 "$here/bench/peers/vtk_peers.py" "$dir" --reference "$dir/reference.npy" \
-    --mappers pt --repeat "$repeat" > "$dir/vtk-$r.json"
+  mkdir -p "$dir/vtk-$r"
+  xvfb-run -a /usr/bin/python3 "$here/bench/peers/vtk_peers.py" "$dir" --mappers pt --repeat "$repeat" \
+    --save "$dir/vtk-$r" > "$dir/vtk-$r.json"
 done
+# VTK's image measured the one way uvr measures an outside image (uvr compare --image), on its colour (8-bit RGB).
+/usr/bin/python3 "$here/bench/peers/measure_images.py" --uvr "$uvr" --report "$dir/measured" \
+  --image "vtk-pt=$dir/vtk-1/vtk-pt.npy" -- "$@" > "$dir/measured.json"
 /usr/bin/python3 - "$dir" "$rounds" <<'PY'
 import json, statistics, sys
 d, rounds = sys.argv[1], int(sys.argv[2])
+pt_rmse = next(r for r in json.load(open(f"{d}/measured.json"))["results"] if r["label"] == "vtk-pt")["rmse"]
 gl_pt, emu_gl, arb_gl = [], [], []
 for r in range(1, rounds + 1):
     u = json.load(open(f"{d}/uvr-{r}.json")); v = json.load(open(f"{d}/vtk-{r}.json"))
@@ -42,7 +46,7 @@ for r in range(1, rounds + 1):
               f"{s['raster_and_fragment']:.1f}, flush {s['flush']:.1f}, readback {s['readback']:.1f} ms; "
               f"{x['tetrahedra_per_s'] / 1e6:.2f} Mtet/s")
     print(f"  VTK projected tetrahedra {pt['frame_ms']:8.1f} ms/frame (median of {len(pt['frame_ms_all'])}), RMSE "
-          f"against the reference {pt['rmse_rgb']:.4f}")
+          f"(RGB) against the reference {pt_rmse:.4f} (round 1's image)")
     gl_pt.append(gl["frame_ms"] / pt["frame_ms"]); emu_gl.append(emu["frame_ms"] / gl["frame_ms"])
     arb_gl.append(arb["frame_ms"] / gl["frame_ms"])
     print(f"  ratios: GL / VTK PT {gl_pt[-1]:.2f}, emulation / GL {emu_gl[-1]:.2f}, ARB (--entries seed) / GL "

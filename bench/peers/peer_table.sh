@@ -4,9 +4,9 @@
 #     unstructured-grid volume mappers;
 #   - a regular grid (a volume): uvr's reference and ray caster (both classifications, emulated and on GL) and VTK 9's
 #     GPU ray caster (vtkOpenGLGPUVolumeRayCastMapper, under Xvfb's Mesa).
-# Milliseconds per frame (median), and each image's error against uvr's reference measured the same way for all (SPEC
-# §4 on the RGB colour over black, since VTK's images are 8-bit RGB: RMSE, visible fraction, and the fraction of
-# covered pixels left empty).
+# Milliseconds per frame (median), and each image's error against uvr's reference measured the same way for all, by
+# `uvr compare --image` (SPEC §4 on the RGB colour over black, since VTK's images are 8-bit RGB: RMSE, visible
+# fraction, and the fraction of covered pixels left empty).
 #   bash bench/peers/peer_table.sh MESH [scene options...]     e.g.
 #   bash bench/peers/peer_table.sh ../shared/data/vtk-data/bluntfinxyz.bin --q ../shared/data/vtk-data/bluntfinq.bin
 #   bash bench/peers/peer_table.sh ../shared/data/vtk-data/neghip.slc
@@ -40,45 +40,40 @@ else
     --repeat "$repeat" --json > "$dir/bench.json"
   mappers=raycast,pt,zsweep
 fi
-xvfb-run -a /usr/bin/python3 "$here/bench/peers/vtk_peers.py" "$dir/scene" --reference "$dir/emu/reference.npy" \
-  --mappers "$mappers" --repeat "$repeat" --save "$dir/vtk" > "$dir/vtk.json"
-/usr/bin/python3 - "$dir" "$k" "$gl" <<'PY'
-import json, sys
-import numpy as np
-d, k, gl = sys.argv[1], sys.argv[2], sys.argv[3]
+xvfb-run -a /usr/bin/python3 "$here/bench/peers/vtk_peers.py" "$dir/scene" --mappers "$mappers" --repeat "$repeat" \
+  --save "$dir/vtk" > "$dir/vtk.json"
+/usr/bin/python3 - "$dir" "$k" "$gl" "$uvr" "$here" "$@" <<'PY'
+import json, subprocess, sys
+d, k, gl, uvr, here, scene = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5], sys.argv[6:]
 b = json.load(open(f"{d}/bench.json"))
 v = json.load(open(f"{d}/vtk.json"))
-ref = np.load(f"{d}/emu/reference.npy")
 
-def rgb_errors(rgb):
-    # The same measures as bench/peers/vtk_peers.py errors(): premultiplied colour over black is the colour itself.
-    diff = np.abs(rgb - ref[:, :, :3])
-    covered = ref[:, :, 3] > 1.0 / 255.0
-    empty = covered & (rgb.max(axis=2) == 0.0)
-    return (float(np.sqrt(np.mean(diff ** 2))), float(np.mean(diff.max(axis=2) > 1.0 / 255.0)),
-            float(empty.sum() / max(1, covered.sum())))
-
-rows = []
+rows = []  # (name, ms/frame, label, image file)
 for r in b["results"]:
     if r["algo"] == "reference":
-        img, name = ref, "uvr reference (exact, CPU)"
-    elif r["algo"] == "raycast":
-        sub, pre = r["backend"], r["classification"] == "pre-integrated"
-        img = np.load(f"{d}/{sub}/raycast-{sub}-{'preint' if pre else 'post'}.npy")
-        name = (f"uvr ray caster, {'pre-integrated' if pre else 'post-classified'}, step {r['step']:g}, "
-                + ("emulated" if sub == "emu" else f"GL ({gl})"))
+        rows.append(("uvr reference (exact, CPU)", r["frame_ms"], "uvr-reference", f"{d}/emu/reference.npy"))
+        continue
+    sub = r["backend"]
+    where = "emulated" if sub == "emu" else f"GL ({gl})"
+    if r["algo"] == "raycast":
+        pre = r["classification"] == "pre-integrated"
+        label = f"raycast-{sub}-{'preint' if pre else 'post'}"
+        name = f"uvr ray caster, {'pre-integrated' if pre else 'post-classified'}, step {r['step']:g}, {where}"
     elif r["algo"] == "vicp":
-        sub = r["backend"]
-        img = np.load(f"{d}/{sub}/vicp-{sub}-{r['order']}.npy")
-        name = f"uvr VICP {r['order']}, " + ("emulated" if sub == "emu" else f"GL ({gl})")
+        label, name = f"vicp-{sub}-{r['order']}", f"uvr VICP {r['order']}, {where}"
     else:
-        sub = r["backend"]
-        img = np.load(f"{d}/{sub}/havs-{sub}-k{k}.npy")
-        name = f"uvr HAVS k={k}, " + ("emulated" if sub == "emu" else f"GL ({gl})")
-    rows.append((name, r["frame_ms"], *rgb_errors(img[:, :, :3])))
+        label, name = f"havs-{sub}-k{k}", f"uvr HAVS k={k}, {where}"
+    rows.append((name, r["frame_ms"], "uvr-" + label, f"{d}/{sub}/{label}.npy"))
 for r in v["results"]:
-    rgb = np.load(f"{d}/vtk/{r['algo']}.npy")
-    rows.append((f"VTK {v['vtk']} {r['algo'][4:]}", r["frame_ms"], *rgb_errors(rgb)))
+    rows.append((f"VTK {v['vtk']} {r['algo'][4:]}", r["frame_ms"], r["algo"], f"{d}/vtk/{r['algo']}.npy"))
+# Every image measured the one way uvr measures an image made elsewhere (uvr compare --image), on the colour over
+# black for all, since VTK's images are 8-bit RGB (bench/peers/measure_images.py).
+args = ["/usr/bin/python3", f"{here}/bench/peers/measure_images.py", "--uvr", uvr, "--report", f"{d}/table",
+        "--colour-only"]
+for _, _, label, path in rows:
+    args += ["--image", f"{label}={path}"]
+measured = json.loads(subprocess.run(args + ["--", *scene], check=True, stdout=subprocess.PIPE).stdout)
+by_label = {r["label"]: r for r in measured["results"]}
 m = b["machine"]
 elements = f"{b['tetrahedra']} tetrahedra" if "tetrahedra" in b else f"{b['voxels']} voxels"
 print(f"{b['mesh']}: {elements}, {b['width']}x{b['height']}; {m['cpu']}, {m['threads']} threads; "
@@ -86,8 +81,9 @@ print(f"{b['mesh']}: {elements}, {b['width']}x{b['height']}; {m['cpu']}, {m['thr
 print()
 print("| renderer | ms/frame | RMSE (RGB) | visible fraction | covered pixels left empty |")
 print("|---|---|---|---|---|")
-for name, ms, rmse, vis, empty in rows:
-    print(f"| {name} | {ms:.1f} | {rmse:.2e} | {vis:.4f} | {empty:.4f} |")
+for name, ms, label, _ in rows:
+    e = by_label[label]
+    print(f"| {name} | {ms:.1f} | {e['rmse']:.2e} | {e['visible_fraction']:.4f} | {e['covered_left_empty']:.4f} |")
 print()
 print("GL: " + next((r["gl"] for r in b["results"] if "gl" in r), "not run"))
 per = f"{b['bytes_per_tet']:.0f} bytes per tetrahedron" if "bytes_per_tet" in b else \

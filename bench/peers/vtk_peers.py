@@ -1,13 +1,15 @@
 #!/usr/bin/python3
-"""Render a scene exported by `uvr export` with VTK 9's unstructured-grid volume mappers, time them, and measure their
-error against uvr's reference image with SPEC section 4's measures.
+"""Render a scene exported by `uvr export` with VTK 9's unstructured-grid volume mappers, time them, and save their
+images; the images are then measured against uvr's reference by `uvr compare --image` (bench/peers/measure_images.py),
+the one way uvr measures an image made elsewhere.
 
     uvr export MESH [scene options] --out DIR
-    uvr render MESH [same scene options] --algo reference --out DIR/reference.npy
-    xvfb-run -a /usr/bin/python3 bench/peers/vtk_peers.py DIR --reference DIR/reference.npy [--mappers raycast,pt,zsweep]
+    xvfb-run -a /usr/bin/python3 bench/peers/vtk_peers.py DIR --save IMAGES [--mappers raycast,pt,zsweep]
     (a volume: the same with VOLUME, and [--mappers gpu] [--step S])
 
-Prints one JSON object. Debian's python3-vtk9 renders through X, hence xvfb-run (Mesa's llvmpipe under Xvfb).
+Prints one JSON object (times); IMAGES/vtk-MAPPER.npy is each mapper's 8-bit RGB as float32 H x W x 3, row 0 on top
+(colour only: uvr compares it with the reference's colour over black). Debian's python3-vtk9 renders through X, hence
+xvfb-run (Mesa's llvmpipe under Xvfb).
 
 Transfer function: uvr's extinction tau (per world unit) becomes VTK's scalar opacity a = tau u at each node, with
 ScalarOpacityUnitDistance u = 1 / tau_max. All three mappers use a / u as an extinction coefficient (the ray caster's
@@ -150,31 +152,15 @@ def render(name, grid, prop, cam, width, height, repeat, step=None):
     return statistics.median(times), times, np.flipud(rgb).astype(np.float32) / 255.0
 
 
-def errors(rgb, reference):
-    ref = reference[:, :, :3]  # premultiplied colour over black is the colour itself
-    diff = np.abs(rgb - ref)
-    rmse = float(np.sqrt(np.mean(diff**2)))
-    covered = reference[:, :, 3] > 1.0 / 255.0
-    empty = covered & (rgb.max(axis=2) == 0.0)
-    return {
-        "rmse_rgb": rmse,
-        "max_abs_rgb": float(diff.max()),
-        "psnr_rgb": float(20.0 * math.log10(1.0 / rmse)) if rmse > 0 else float("inf"),
-        "visible_fraction": float(np.mean(diff.max(axis=2) > 1.0 / 255.0)),
-        "missing_fraction_of_covered": float(empty.sum() / max(1, covered.sum())),
-    }
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("scene", help="directory written by `uvr export`")
-    ap.add_argument("--reference", help="uvr's reference .npy of the same scene")
     ap.add_argument("--mappers", help="comma-separated: raycast, pt, zsweep for a mesh (the default: all three); "
                     "gpu for a volume (the default)")
     ap.add_argument("--step", type=float, help="volume: the GPU ray caster's sample distance (default: the scene's "
                     "default_step, uvr's)")
     ap.add_argument("--repeat", type=int, default=5)
-    ap.add_argument("--save", help="directory for the peers' images (.npy)")
+    ap.add_argument("--save", help="directory for the peers' images (vtk-MAPPER.npy, float32 RGB)")
     a = ap.parse_args()
     grid, tf, cam, scene = load(a.scene)
     is_volume = scene.get("kind") == "volume"
@@ -193,7 +179,6 @@ def main():
         b = grid.GetBounds()
         diagonal = math.sqrt((b[1] - b[0]) ** 2 + (b[3] - b[2]) ** 2 + (b[5] - b[4]) ** 2)
         prop = volume_property(tf, 1.0 / tau_max if tau_max > 0 else diagonal)
-    reference = np.load(a.reference) if a.reference else None
     out = {"vtk": vtk.vtkVersion.GetVTKVersion(), "cells": grid.GetNumberOfCells(), "width": scene["width"],
            "height": scene["height"], "results": []}
     if is_volume:
@@ -201,10 +186,8 @@ def main():
     for name in mappers:
         median_ms, times, rgb = render(name, grid, prop, cam, scene["width"], scene["height"], a.repeat, step)
         r = {"algo": f"vtk-{name}", "backend": "vtk", "frame_ms": median_ms, "frame_ms_all": times}
-        if reference is not None:
-            r.update(errors(rgb, reference))
         if a.save:
-            np.save(f"{a.save}/vtk-{name}.npy", rgb)
+            np.save(f"{a.save}/vtk-{name}.npy", np.ascontiguousarray(rgb, dtype=np.float32))
         out["results"].append(r)
     json.dump(out, sys.stdout, indent=1)
     print()
