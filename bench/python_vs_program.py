@@ -3,8 +3,8 @@
 
     PYTHONPATH=build/python /usr/bin/python3 bench/python_vs_program.py [--algo havs] [--backend emu] [--rounds 5]
 
-One run on the built-in torus at 512 x 512. Rounds alternate the two so both see the same state of the machine, and
-the medians of the per-round ratios are reported:
+One run on the built-in torus at 512 x 512. Rounds alternate the two so both see the same state of the machine (odd
+rounds start with the program, even rounds with Python), and the medians of the per-round ratios are reported:
   - render: the render's own time, the program's (`uvr render --json`: renderer made and frame rendered, its "seconds")
     against uvr.render()'s wall time in the interpreter (the same work, plus handing the image to NumPy);
   - process: a whole `uvr render ... --out x.npy` against a whole `python3 -c "import uvr; ...render..."` (start-up,
@@ -43,17 +43,26 @@ def main():
     scene = uvr.Scene(a.source, size=(a.size, a.size))
     uvr.render(scene, a.algo, **options)  # warm: the first GL context, the page cache
     render_ratio, process_ratio, rows = [], [], []
-    for r in range(a.rounds):
+    def program():
         t0 = time.perf_counter()
         done = subprocess.run(cli, check=True, stdout=subprocess.PIPE)
-        program_process = time.perf_counter() - t0
-        program_render = json.loads(done.stdout)["seconds"]
+        return json.loads(done.stdout)["seconds"], time.perf_counter() - t0
+
+    def python():
         t0 = time.perf_counter()
         uvr.render(scene, a.algo, **options)
-        python_render = time.perf_counter() - t0
+        render = time.perf_counter() - t0
         t0 = time.perf_counter()
         subprocess.run([sys.executable, "-c", script], check=True, env=dict(os.environ))
-        python_process = time.perf_counter() - t0
+        return render, time.perf_counter() - t0
+
+    for r in range(a.rounds):
+        if r % 2 == 0:
+            program_render, program_process = program()
+            python_render, python_process = python()
+        else:
+            python_render, python_process = python()
+            program_render, program_process = program()
         render_ratio.append(python_render / program_render)
         process_ratio.append(python_process / program_process)
         rows.append((program_render, python_render, program_process, python_process))

@@ -159,19 +159,36 @@ TransferFunction load_transfer_function(const std::string& path)
     return parse_transfer_function(read_file_bytes(path), path);
 }
 
+namespace {
+
+// The default's colours: a viridis-like ramp, perceptually ordered, readable on black.
+constexpr double kDefaultRamp[5][3] = {{0.267, 0.005, 0.329},
+                                       {0.230, 0.322, 0.546},
+                                       {0.128, 0.567, 0.551},
+                                       {0.369, 0.789, 0.383},
+                                       {0.993, 0.906, 0.144}};
+
+// The ramp's nodes from `first` on, spread evenly over [lo, lo + d].
+std::vector<ColorNode> ramp_colours(double lo, double d, int first)
+{
+    std::vector<ColorNode> c;
+    const int n = 5 - first;
+    for (int i = 0; i < n; ++i) {
+        const double* rgb = kDefaultRamp[first + i];
+        c.push_back({lo + d * i / double(n - 1), {rgb[0], rgb[1], rgb[2]}});
+    }
+    return c;
+}
+
+}  // namespace
+
 TransferFunction default_transfer_function(Range range, double diagonal)
 {
     double lo = range.lo, hi = range.hi;
     if (!(hi > lo)) hi = lo + 1.0;  // a constant field still gets a usable table
     const double d = hi - lo;
-    // A viridis-like ramp: perceptually ordered, readable on black.
-    static const double kColors[5][3] = {{0.267, 0.005, 0.329},
-                                         {0.230, 0.322, 0.546},
-                                         {0.128, 0.567, 0.551},
-                                         {0.369, 0.789, 0.383},
-                                         {0.993, 0.906, 0.144}};
     TransferFunction tf;
-    for (int i = 0; i < 5; ++i) tf.color.push_back({lo + d * i / 4.0, {kColors[i][0], kColors[i][1], kColors[i][2]}});
+    tf.color = ramp_colours(lo, d, 0);
     const double k = kDefaultOpticalDepth / (diagonal > 0.0 ? diagonal : 1.0);
     static const double kShape[5][2] = {{0.0, 0.05}, {0.3, 1.0}, {0.55, 0.15}, {0.8, 0.9}, {1.0, 0.3}};
     for (const auto& n : kShape) tf.extinction.push_back({lo + d * n[0], k * n[1]});
@@ -207,9 +224,24 @@ TransferFunction default_volume_transfer_function(const std::vector<float>& valu
     for (const ExtinctionNode& n : tf.extinction) at.push_back(n.s);
     std::sort(at.begin(), at.end());
     at.erase(std::unique(at.begin(), at.end()), at.end());
+    // What is left visible is a part of the box, not all of it: a compact part that holds the fraction f of the
+    // voxels has chords about f^(1/3) of the box's, so its extinction is raised by f^(-1/3) to give a ray through it
+    // the optical depth the mesh default gives the whole diagonal (issue 27: the windowed default alone was dim).
+    double visible = 0.0;
+    std::size_t finite = 0;
+    for (float v : values)
+        if (std::isfinite(v)) {
+            visible += window(double(v));
+            ++finite;
+        }
+    const double f = std::max(kMinVisibleFraction, finite ? visible / double(finite) : 1.0);
+    const double boost = std::cbrt(1.0 / f);
     std::vector<ExtinctionNode> ext;
-    for (double s : at) ext.push_back({s, tf.tau_at(s) * window(s)});
+    for (double s : at) ext.push_back({s, tf.tau_at(s) * window(s) * boost});
     tf.extinction = ext;
+    // The ramp without its first, near-black node: a volume's visible voxels are mostly the values just beside the
+    // background, which that node coloured almost black on black.
+    tf.color = ramp_colours(lo, d, 1);
     return tf;
 }
 

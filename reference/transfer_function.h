@@ -46,8 +46,14 @@ TransferFunction default_transfer_function(Range range, double bounds_diagonal);
 // The default for a regular grid: default_transfer_function, made transparent over the band of values around the
 // histogram's most common value (256 bins over the range; the band reaches kBackgroundMargin of the range beyond that
 // bin on each side, with linear ramps as wide), so that the dominant background (air around a CT scan, the empty space
-// of a simulation box) does not fog the view. docs/user-guide.md, "Regular grids".
+// of a simulation box) does not fog the view; and its extinction raised by f^(-1/3), f the fraction of the voxels left
+// visible (the window's mean), so that the visible part, not the whole box, gets the default's optical depth.
+// docs/user-guide.md, "Regular grids".
 inline constexpr double kBackgroundMargin = 0.02;
+// The smallest f the boost takes (at most 4 times the extinction): below it the visible voxels are scattered specks
+// (noise around the background), whose chords are not f^(1/3) of the box, and a larger boost would only make them
+// opaque dots.
+inline constexpr double kMinVisibleFraction = 1.0 / 64.0;
 TransferFunction default_volume_transfer_function(const std::vector<float>& values, Range range, double bounds_diagonal);
 
 // --tf preset:NAME: the default extinction under one of ParaView's common colour maps, by its ParaView name or short

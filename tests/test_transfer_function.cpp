@@ -119,13 +119,27 @@ TEST_CASE("the default transfer function of a regular grid is transparent around
             INFO("s = " << s);
             CHECK(tf.tau_at(s) == 0.0);
         }
-        // Beyond the ramp (another 2) the default's extinction, at the default's own nodes and on the sampled grid.
+        // Beyond the ramp (another 2) the default's extinction, at the default's own nodes and on the sampled grid,
+        // raised by f^(-1/3): the 1,000 values at 10 and above are all fully visible, so f = 1000 / 10000.
+        const double boost = std::cbrt(10000.0 / 1000.0);
         for (double s : {10.0, 30.0, 55.0, 80.0, 100.0}) {
             INFO("s = " << s);
-            CHECK(tf.tau_at(s) == Approx(plain.tau_at(s)).epsilon(1e-12));
+            CHECK(tf.tau_at(s) == Approx(plain.tau_at(s) * boost).epsilon(1e-12));
             CHECK(tf.tau_at(s) > 0.0);
         }
-        CHECK(tf.color.size() == plain.color.size());  // the colours are the default's
+        // The colours: the default's ramp without its near-black first node, over the whole range.
+        REQUIRE(tf.color.size() == plain.color.size() - 1);
+        CHECK(tf.color_at(0.0) == plain.color_at(25.0));
+        CHECK(tf.color_at(100.0) == plain.color_at(100.0));
+    }
+    SECTION("a few specks in the background: the boost stops at kMinVisibleFraction")
+    {
+        std::vector<float> values(19950, 2.0f);  // 0.25 % visible, below 1/64
+        for (int i = 0; i < 50; ++i) values.push_back(float(40 + i));
+        const uvr::TransferFunction tf = uvr::default_volume_transfer_function(values, range, diagonal);
+        const double most = std::cbrt(1.0 / uvr::kMinVisibleFraction);
+        CHECK(most == Approx(4.0));
+        CHECK(tf.tau_at(55.0) == Approx(plain.tau_at(55.0) * most).epsilon(1e-12));
     }
     SECTION("background at the top of the range (an inverted scan)")
     {
@@ -134,7 +148,7 @@ TEST_CASE("the default transfer function of a regular grid is transparent around
         const uvr::TransferFunction tf = uvr::default_volume_transfer_function(values, range, diagonal);
         CHECK(tf.tau_at(99.5) == 0.0);
         CHECK(tf.tau_at(100.0) == 0.0);
-        CHECK(tf.tau_at(30.0) == Approx(plain.tau_at(30.0)).epsilon(1e-12));
+        CHECK(tf.tau_at(30.0) == Approx(plain.tau_at(30.0) * std::cbrt(10.0)).epsilon(1e-12));
     }
 }
 
