@@ -11,6 +11,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "gpu/havs/havs_seed_span.h"
 #include "gpu/pipeline/rasterize.h"
 #include "gpu/pipeline/denormals.h"
 #include "gpu/pipeline/exact_coverage.h"
@@ -179,7 +180,19 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
                     side = kSideInterior;
                 }
                 const HavsVaryingPlanes planes = havs_varying_planes(sv, eye, s, side, ts);
-                visit([&](int px, int py) { apply(havs_seed_entry(fc, havs_varyings_at(planes, px, py, arith)), px, py); });
+                if (exact_coverage) {
+                    visit([&](int px, int py) {
+                        apply(havs_seed_entry(fc, havs_varyings_at(planes, px, py, arith)), px, py);
+                    });
+                    continue;
+                }
+                // A row span at a time (havs_seed_span.h: the same bits as pixel by pixel), then each pixel's
+                // k-buffer in column order, as the fragments arrive.
+                for_each_span_in_tile(ts, tile, [&](int py, int first, int last) {
+                    KEntry entries[ScreenTiles::kTile];
+                    havs_seed_entries(fc, planes, py, first, last, arith, entries);
+                    for (int px = first; px <= last; ++px) apply(entries[px - first], px, py);
+                });
                 continue;
             }
             // --interpolation exact: flat per-face constants, in double, rounded once (what the CPU uploads).

@@ -82,10 +82,10 @@ private:
     TileRect tile(std::size_t b) const;
 };
 
-// The fragments of triangle `ts` that lie in `tile`, row by row from the bottom and left to right in each row (the
-// rasterizer's coverage, rasterize.h): `fragment(px, py)` in GL window pixels.
-template <class Fragment>
-void for_each_fragment_in_tile(const TriangleSetup& ts, const TileRect& tile, Fragment&& fragment)
+// The covered spans of triangle `ts` in `tile`, row by row from the bottom: `span(py, first, last)` for the columns
+// first..last of GL window row py (never empty).
+template <class Span>
+void for_each_span_in_tile(const TriangleSetup& ts, const TileRect& tile, Span&& span)
 {
     const int ya = std::max(ts.y0, tile.py0), yb = std::min(ts.y1, tile.py1);
     for (int py = ya; py <= yb; ++py) {
@@ -93,8 +93,18 @@ void for_each_fragment_in_tile(const TriangleSetup& ts, const TileRect& tile, Fr
         row_span(ts, py, first, last);
         first = std::max(first, tile.px0);
         last = std::min(last, tile.px1);
-        for (int px = first; px <= last; ++px) fragment(px, py);
+        if (first <= last) span(py, first, last);
     }
+}
+
+// The fragments of triangle `ts` that lie in `tile`, row by row from the bottom and left to right in each row (the
+// rasterizer's coverage, rasterize.h): `fragment(px, py)` in GL window pixels.
+template <class Fragment>
+void for_each_fragment_in_tile(const TriangleSetup& ts, const TileRect& tile, Fragment&& fragment)
+{
+    for_each_span_in_tile(ts, tile, [&](int py, int first, int last) {
+        for (int px = first; px <= last; ++px) fragment(px, py);
+    });
 }
 
 }  // namespace uvr::gpu
