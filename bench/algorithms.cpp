@@ -251,7 +251,9 @@ public:
     {
         const gpu::HavsOptions o = havs_options(a);
         if (a.backend == "emu") {
-            emu_ = std::make_unique<gpu::HavsRenderer>(s.mesh(), *s.topology, s.field, s.tf, o);
+            // Without diagnostics as the GL driver is timed (bench): the same image, no per-pixel counts.
+            emu_ = std::make_unique<gpu::HavsRenderer>(s.mesh(), *s.topology, s.field, s.tf, o, a.diagnostics);
+            diagnostics_ = a.diagnostics;
             return;
         }
         if (a.backend == "arb") {
@@ -303,10 +305,8 @@ public:
             r.stats["max_held"] = st.max_held;
             r.stats["ordering_errors"] = st.ordering_errors;
         }
-        if (ctx_) {
-            r.stats["gl"] = ctx_->info().summary();
-            r.stats["diagnostics"] = diagnostics_;
-        }
+        if (ctx_) r.stats["gl"] = ctx_->info().summary();
+        r.stats["diagnostics"] = diagnostics_;
         r.image = std::move(f.image);
         r.fragments = std::move(f.fragments);
         r.max_held = std::move(f.max_held);

@@ -142,6 +142,23 @@ TEST_CASE("the HAVS frame does not depend on the number of threads")
     CHECK(many.rgba == single.rgba);
 }
 
+TEST_CASE("the HAVS frame without diagnostics has the same bits and no per-pixel counts")
+{
+    const Scene s = make_scene(load_builtin("builtin:torus-small"), 0);
+    const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 30.0, 50.0);
+    for (const bool seed_entries : {false, true}) {
+        INFO("--entries " << (seed_entries ? "seed" : "marked"));
+        HavsOptions o;
+        o.entries = seed_entries ? EntryEncoding::seed : EntryEncoding::marked;
+        const HavsFrame with = HavsRenderer(s.mesh, s.topo, s.field, s.tf, o, true).render(cam, 160, 120);
+        const HavsFrame without = HavsRenderer(s.mesh, s.topo, s.field, s.tf, o, false).render(cam, 160, 120);
+        CHECK(with.image.rgba == without.image.rgba);
+        CHECK(with.stats.fragments > 0);
+        CHECK(without.fragments.empty());
+        CHECK(without.stats.fragments == 0);
+    }
+}
+
 TEST_CASE("far from the origin: HAVS on coordinates at 1e8 with features at 1e-3 still equals the reference")
 {
     // The small torus moved to 1e8 and shrunk to features of 1e-3: the frame's vertex buffer holds positions relative

@@ -85,8 +85,8 @@ void store_clip_stats(const HavsFrameSetup& fs, HavsStats& st)
 }
 
 HavsRenderer::HavsRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
-                           const TransferFunction& tf, const HavsOptions& options)
-    : mesh_(mesh, topo, field, tf, checked_k(options))
+                           const TransferFunction& tf, const HavsOptions& options, bool diagnostics)
+    : mesh_(mesh, topo, field, tf, checked_k(options)), diagnostics_(diagnostics)
 {
 }
 
@@ -123,7 +123,8 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     const std::size_t npix = std::size_t(width) * std::size_t(height);
     std::vector<KEntry> kbuf(npix * std::size_t(k), kEmptyEntry);
     std::vector<glm::vec4> fb(npix, glm::vec4(0.0f));
-    std::vector<KBufferDiagnostics> diag(npix);
+    std::vector<KBufferDiagnostics> diag(diagnostics_ ? npix : 0);
+    KBufferDiagnostics* const diag_at = diagnostics_ ? diag.data() : nullptr;  // pixel p's: diag_at + p
     const bool exact_coverage = mesh_.options().coverage == Coverage::exact;
 
     const bool seed_varyings = mesh_.options().interpolation == InterpolationMode::gpu;
@@ -134,6 +135,9 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
 
     t0 = Clock::now();
     tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
+        // A span's entries (--interpolation gpu): made once a tile, as initializing them for every span took a
+        // quarter of this loop's own time.
+        KEntry entries[ScreenTiles::kTile];
         for (uint32_t i : items) {
             const uint32_t id = fs.draw[i];
             const uint32_t* v = fs.triangle(mesh_, id);
@@ -165,7 +169,7 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
             };
             const auto apply = [&](const KEntry& e, int px, int py) {
                 const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
-                havs_kbuffer(fc, e, &kbuf[p * std::size_t(k)], k, fb[p], shade, &diag[p]);
+                havs_kbuffer(fc, e, &kbuf[p * std::size_t(k)], k, fb[p], shade, diag_at ? diag_at + p : nullptr);
             };
             if (seed_varyings) {
                 // --interpolation gpu: the seed's varyings through the interpolation stage, the side a flat attribute.
@@ -189,7 +193,6 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
                 // A row span at a time (havs_seed_span.h: the same bits as pixel by pixel), then each pixel's
                 // k-buffer in column order, as the fragments arrive.
                 for_each_span_in_tile(ts, tile, [&](int py, int first, int last) {
-                    KEntry entries[ScreenTiles::kTile];
                     havs_seed_entries(fc, planes, py, first, last, arith, entries);
                     for (int px = first; px <= last; ++px) apply(entries[px - first], px, py);
                 });
@@ -208,11 +211,11 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, npix), [&](const tbb::blocked_range<std::size_t>& range) {
         const FlushDenormals llvmpipe_mxcsr;
         for (std::size_t p = range.begin(); p != range.end(); ++p)
-            havs_flush(fc, &kbuf[p * std::size_t(k)], k, fb[p], shade, &diag[p]);
+            havs_flush(fc, &kbuf[p * std::size_t(k)], k, fb[p], shade, diag_at ? diag_at + p : nullptr);
     });
     st.flush_ms = ms_since(t0);
 
-    store_havs_frame(fb, &diag, width, height, out);
+    store_havs_frame(fb, diagnostics_ ? &diag : nullptr, width, height, out);
     return out;
 }
 

@@ -41,6 +41,12 @@ SegmentShader segment_shader(const PreintegrationTable* table, TextureFilter fil
 {
     if (table) {
         const LlvmpipeCpu cpu = host_llvmpipe_cpu();
+        const TextureView view = table->view();
+        if (takes_linear_f32x4_fma(view, filter, cpu))  // the path sample_3d takes, called directly
+            return [view](float uf, float ub, float tz, float) {
+                const float coord[3] = {uf, ub, tz};
+                return sample_linear_f32x4_fma(view, coord, 3);
+            };
         return [table, filter, cpu](float uf, float ub, float tz, float) {
             return table->sample(uf, ub, tz, cpu, filter);
         };

@@ -94,14 +94,19 @@ glm::vec4 sample_linear_aos(const TextureView& tex, const float* coord, int dims
 glm::vec4 sample_any(const TextureView& tex, const float* coord, int dims, TextureFilter filter,
                      const LlvmpipeCpu& cpu)
 {
+    if (takes_linear_f32x4_fma(tex, filter, cpu)) return sample_linear_f32x4_fma(tex, coord, dims);
     if (filter == TextureFilter::nearest) return sample_nearest(tex, coord, dims);
     if (sample_path(tex.format) == SamplePath::aos_unorm8) return sample_linear_aos(tex, coord, dims, cpu);
-    if (tex.format == TexelFormat::f32 && tex.channels == 4 && cpu.fma && host_has_fma())
-        return sample_linear_f32x4_fma(tex, coord, dims);
     return sample_linear_soa(tex, coord, dims, cpu);
 }
 
 }  // namespace
+
+bool takes_linear_f32x4_fma(const TextureView& tex, TextureFilter filter, const LlvmpipeCpu& cpu)
+{
+    static const bool fma = host_has_fma();
+    return filter == TextureFilter::linear && tex.format == TexelFormat::f32 && tex.channels == 4 && cpu.fma && fma;
+}
 
 glm::vec4 sample_linear_soa(const TextureView& tex, const float* coord, int dims, const LlvmpipeCpu& cpu)
 {

@@ -132,6 +132,9 @@ glm::vec4 sample_linear_soa(const TextureView& tex, const float* coord, int dims
 // applies; the test calls both paths.
 bool host_has_fma();
 glm::vec4 sample_linear_f32x4_fma(const TextureView& tex, const float* coord, int dims);
+// Whether sample_2d and sample_3d take that fast path for `tex` with `filter` (a caller that samples one texture
+// many times may then call it directly: the same bits, without the dispatch per sample).
+bool takes_linear_f32x4_fma(const TextureView& tex, TextureFilter filter, const LlvmpipeCpu& cpu);
 
 // texture(sampler2D, vec2(s, t)) and texture(sampler3D, vec3(s, t, r)) with the given filter on both min and mag.
 glm::vec4 sample_2d(const TextureView& tex, float s, float t, TextureFilter filter, const LlvmpipeCpu& cpu);
