@@ -2,12 +2,20 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <vector>
 
 #include "gpu/havs/havs_fragment.h"
+#include "gpu/havs/havs_kbuffer.h"
+#include "gpu/pipeline/denormals.h"
 #include "gpu/pipeline/rasterize.h"
+#include "gpu/pipeline/segment.h"
+#include "reference/transfer_function.h"
+#include "bit_compare.h"
+#include "kbuffer_cases.h"
 #include "test_support.h"
 
+using namespace uvr;
 using namespace uvr::gpu;
 
 namespace {
@@ -280,4 +288,76 @@ TEST_CASE("fragment values: the snapped weights are the exact integer edge funct
     CHECK(std::llabs(e2) > (int64_t(1) << 43));  // the size the test is about
     const double expected = double(kSideOutside) * (1.0 + double(e2) * (1.0 / double(e0 + e1 + e2)));
     CHECK(got.x == expected);
+}
+
+TEST_CASE("the program for the seed's k with the table's direct path computes the run-time program's bits")
+{
+    // The emulated frame runs kbuffer_program::run<kSeedK, TableSegmentShader> (chains unrolled, the sample called
+    // directly); havs_kbuffer, which the GL stage tests hold to GLSL's bits, is the run-time instance through
+    // std::function. Both on the same random cases (ties, kills at the threshold, empty and flush entries, +inf, and
+    // NaN distances), every output compared bit for bit.
+    const TransferFunction tf = default_transfer_function(Range{0.0, 1.0}, 1.0);
+    const SegmentIntegrator integrator(tf);
+    const PreintegrationTable table = test::stage_test_table(integrator, TexelFormat::f32);
+    const std::optional<TableSegmentShader> direct = table_segment_shader(&table, TextureFilter::linear);
+    INFO("host has FMA3: " << host_has_fma() << " (without it no frame takes the direct path: nothing to check)");
+    REQUIRE(direct.has_value() == host_has_fma());
+    if (!direct) return;
+    const SegmentShader through_function = segment_shader(&table, TextureFilter::linear, integrator, Range{0.0, 1.0});
+    constexpr int k = kbuffer_program::kSeedK;
+    constexpr std::size_t kCases = std::size_t(1) << 18;  // per section; four sections: a million in all
+
+    const auto compare = [&](HavsFrameConstants fc, uint64_t seed) {
+        fc.length_scale = table.length_scale();
+        fc.length_bias = table.length_bias();
+        test::KBufferGen g(seed, fc.max_gap);
+        KBufferCases cs = test::make_kbuffer_cases(g, k, kCases, fc.threshold);
+        for (KEntry& e : cs.entries)
+            if (g.pick(64) == 0) e.y = NAN;
+        test::Mismatches mm;
+        uint64_t written = 0;
+        const FlushDenormals llvmpipe_mxcsr;  // as the frame runs it
+        for (std::size_t c = 0; c < cs.size(); ++c) {
+            KEntry a[k], b[k];
+            std::copy_n(cs.entries.begin() + std::ptrdiff_t(c * k), k, a);
+            std::copy_n(a, k, b);
+            glm::vec4 fa = cs.framebuffer[c], fb = fa;
+            KBufferDiagnostics da, db;
+            const bool wa = kbuffer_program::run<k>(fc, cs.incoming[c], a, k, fa, *direct, &da);
+            const bool wb = havs_kbuffer(fc, cs.incoming[c], b, k, fb, through_function, &db);
+            mm.check(float(wa), float(wb), c, "written");
+            written += wb ? 1 : 0;
+            for (int i = 0; i < k; ++i) {
+                mm.check(a[i].x, b[i].x, c, "entry x");
+                mm.check(a[i].y, b[i].y, c, "entry distance");
+            }
+            for (int ch = 0; ch < 4; ++ch) mm.check(fa[ch], fb[ch], c, "framebuffer");
+            mm.check(float(da.fragments), float(db.fragments), c, "fragments");
+            mm.check(float(da.max_held), float(db.max_held), c, "held");
+            mm.check(float(da.ordering_errors), float(db.ordering_errors), c, "ordering errors");
+            mm.check(da.last_back, db.last_back, c, "last back");
+        }
+        INFO(written << " of " << cs.size() << " cases written");
+        CHECK(written > cs.size() / 2);
+        CHECK(written < cs.size());
+        mm.report("run<kSeedK> against havs_kbuffer");
+    };
+    HavsFrameConstants fc;
+    fc.threshold = 0.99f;
+    SECTION("uvr's marked entries") { compare(fc, 500); }
+    SECTION("uvr's marked entries, segments longer than the gap nullified")
+    {
+        fc.max_gap = 0.5f;
+        compare(fc, 501);
+    }
+    SECTION("the seed's entries")
+    {
+        fc.seed_entries = true;
+        compare(fc, 502);
+    }
+    SECTION("no opacity kill")
+    {
+        fc.threshold = 1.0f;
+        compare(fc, 503);
+    }
 }

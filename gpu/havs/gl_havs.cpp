@@ -359,7 +359,7 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
         for (std::size_t p = 0; p < npix; ++p)
             counts[p] = {uint32_t(diag[p].x), uint32_t(diag[p].y), uint32_t(diag[p].z), diag[p].w};
     }
-    store_havs_frame(colour, diagnostics_ ? &counts : nullptr, width, height, out);
+    store_havs_frame(colour.data(), diagnostics_ ? &counts : nullptr, width, height, out);
     return out;
 }
 

@@ -259,7 +259,7 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
     t0 = Clock::now();
     const std::vector<glm::vec4> colour = gl_->framebuffer->read(0);
     st.readback_ms = ms_since(t0);
-    store_havs_frame(colour, nullptr, width, height, out);
+    store_havs_frame(colour.data(), nullptr, width, height, out);
     return out;
 }
 

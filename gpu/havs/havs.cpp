@@ -11,10 +11,12 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "gpu/havs/havs_kbuffer.h"
 #include "gpu/havs/havs_seed_span.h"
 #include "gpu/pipeline/rasterize.h"
 #include "gpu/pipeline/denormals.h"
 #include "gpu/pipeline/exact_coverage.h"
+#include "gpu/pipeline/huge_pages.h"
 #include "gpu/pipeline/tiles.h"
 #include "reference/error.h"
 
@@ -50,7 +52,7 @@ void check_kbuffer_memory(int k, int width, int height)
 
 }  // namespace
 
-void store_havs_frame(const std::vector<glm::vec4>& colour, const std::vector<KBufferDiagnostics>* diag, int width,
+void store_havs_frame(const glm::vec4* colour, const std::vector<KBufferDiagnostics>* diag, int width,
                       int height, HavsFrame& out)
 {
     const std::size_t npix = std::size_t(width) * std::size_t(height);
@@ -121,8 +123,8 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     // Per-pixel state, GL rows (from the bottom).
     const int k = mesh_.options().k;
     const std::size_t npix = std::size_t(width) * std::size_t(height);
-    std::vector<KEntry> kbuf(npix * std::size_t(k), kEmptyEntry);
-    std::vector<glm::vec4> fb(npix, glm::vec4(0.0f));
+    HugeVector<KEntry> kbuf(npix * std::size_t(k), kEmptyEntry);
+    HugeVector<glm::vec4> fb(npix, glm::vec4(0.0f));
     std::vector<KBufferDiagnostics> diag(diagnostics_ ? npix : 0);
     KBufferDiagnostics* const diag_at = diagnostics_ ? diag.data() : nullptr;  // pixel p's: diag_at + p
     const bool exact_coverage = mesh_.options().coverage == Coverage::exact;
@@ -133,77 +135,94 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     const HavsSeedVertices seed = seed_varyings ? havs_seed_vertices(fs) : HavsSeedVertices{};
     st.setup_ms += ms_since(t0);
 
-    t0 = Clock::now();
-    tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
-        // A span's entries (--interpolation gpu): made once a tile, as initializing them for every span took a
-        // quarter of this loop's own time.
-        KEntry entries[ScreenTiles::kTile];
-        for (uint32_t i : items) {
-            const uint32_t id = fs.draw[i];
-            const uint32_t* v = fs.triangle(mesh_, id);
-            // Coverage: the rasterizer's (snapped) or the exact one. A boundary face is oriented outward, so it is an
-            // exit face when the rasterizer sees it back-facing (clockwise in window coordinates: gl_FrontFacing
-            // false) and an entry face otherwise. The facing comes from the coverage's own area (the rasterizer's
-            // snapped one, or the exact one), so it agrees with the fragments even for slivers.
-            const WindowCoord wv[3] = {win[v[0]], win[v[1]], win[v[2]]};
-            TriangleSetup ts = setup_triangle(wv, fbuf);
-            ExactTriangle et;
-            Facing facing = ts.facing;
-            if (exact_coverage) {
-                const glm::dvec2 p[3] = {{fs.win_d[v[0]].x, fs.win_d[v[0]].y}, {fs.win_d[v[1]].x, fs.win_d[v[1]].y},
-                                         {fs.win_d[v[2]].x, fs.win_d[v[2]].y}};
-                et = exact_triangle(p, v);
-                if (et.empty()) continue;
-                facing = et.facing;
-                // A triangle the rasterizer would drop (zero snapped area) still needs an order for its planes: the
-                // one llvmpipe gives a triangle of this facing in an FBO (front faces have a negative area there).
-                if (ts.facing == Facing::none) ts.swap01 = facing == Facing::front;
-            } else if (ts.empty()) {
-                continue;
-            }
-            const auto visit = [&](auto&& fragment) {
-                if (exact_coverage)
-                    for_each_exact_fragment_in_tile(et, tile, fragment);
-                else
-                    for_each_fragment_in_tile(ts, tile, fragment);
-            };
-            const auto apply = [&](const KEntry& e, int px, int py) {
-                const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
-                havs_kbuffer(fc, e, &kbuf[p * std::size_t(k)], k, fb[p], shade, diag_at ? diag_at + p : nullptr);
-            };
-            if (seed_varyings) {
-                // --interpolation gpu: the seed's varyings through the interpolation stage, the side a flat attribute.
-                float side = havs_face_side(mesh_, fs, id);
-                if (side == kSideExit && facing != Facing::back) side = kSideEntry;
-                const SetupVertex sv[3] = {seed.setup[v[0]], seed.setup[v[1]], seed.setup[v[2]]};
-                const glm::vec3 eye[3] = {seed.eye[v[0]], seed.eye[v[1]], seed.eye[v[2]]};
-                float s[3] = {fs.s_f[v[0]], fs.s_f[v[1]], fs.s_f[v[2]]};
-                if (fc.seed_entries) {  // the mark travels in the scalar (havs_seed_exit), the side stays interior
-                    if (side == kSideExit)
-                        for (float& sj : s) sj = seed_exit_scalar(sj);
-                    side = kSideInterior;
-                }
-                const HavsVaryingPlanes planes = havs_varying_planes(sv, eye, s, side, ts);
+    // The tiles, with the k-buffer program `kbuffer(entry, entries, framebuffer, diagnostics)` (havs_kbuffer.h).
+    const auto draw = [&](const auto& kbuffer) {
+        tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
+            // A span's entries (--interpolation gpu): made once a tile, as initializing them for every span took a
+            // quarter of this loop's own time.
+            KEntry entries[ScreenTiles::kTile];
+            for (uint32_t i : items) {
+                const uint32_t id = fs.draw[i];
+                const uint32_t* v = fs.triangle(mesh_, id);
+                // Coverage: the rasterizer's (snapped) or the exact one. A boundary face is oriented outward, so it is
+                // an exit face when the rasterizer sees it back-facing (clockwise in window coordinates: gl_FrontFacing
+                // false) and an entry face otherwise. The facing comes from the coverage's own area (the rasterizer's
+                // snapped one, or the exact one), so it agrees with the fragments even for slivers.
+                const WindowCoord wv[3] = {win[v[0]], win[v[1]], win[v[2]]};
+                TriangleSetup ts = setup_triangle(wv, fbuf);
+                ExactTriangle et;
+                Facing facing = ts.facing;
                 if (exact_coverage) {
-                    visit([&](int px, int py) {
-                        apply(havs_seed_entry(fc, havs_varyings_at(planes, px, py, arith)), px, py);
+                    const glm::dvec2 p[3] = {{fs.win_d[v[0]].x, fs.win_d[v[0]].y}, {fs.win_d[v[1]].x, fs.win_d[v[1]].y},
+                                             {fs.win_d[v[2]].x, fs.win_d[v[2]].y}};
+                    et = exact_triangle(p, v);
+                    if (et.empty()) continue;
+                    facing = et.facing;
+                    // A triangle the rasterizer would drop (zero snapped area) still needs an order for its planes: the
+                    // one llvmpipe gives a triangle of this facing in an FBO (front faces have a negative area there).
+                    if (ts.facing == Facing::none) ts.swap01 = facing == Facing::front;
+                } else if (ts.empty()) {
+                    continue;
+                }
+                const auto visit = [&](auto&& fragment) {
+                    if (exact_coverage)
+                        for_each_exact_fragment_in_tile(et, tile, fragment);
+                    else
+                        for_each_fragment_in_tile(ts, tile, fragment);
+                };
+                const auto apply = [&](const KEntry& e, int px, int py) {
+                    const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
+                    kbuffer(e, &kbuf[p * std::size_t(k)], fb[p], diag_at ? diag_at + p : nullptr);
+                };
+                if (seed_varyings) {
+                    // --interpolation gpu: the seed's varyings through the interpolation stage, the side a flat
+                    // attribute.
+                    float side = havs_face_side(mesh_, fs, id);
+                    if (side == kSideExit && facing != Facing::back) side = kSideEntry;
+                    const SetupVertex sv[3] = {seed.setup[v[0]], seed.setup[v[1]], seed.setup[v[2]]};
+                    const glm::vec3 eye[3] = {seed.eye[v[0]], seed.eye[v[1]], seed.eye[v[2]]};
+                    float s[3] = {fs.s_f[v[0]], fs.s_f[v[1]], fs.s_f[v[2]]};
+                    if (fc.seed_entries) {  // the mark travels in the scalar (havs_seed_exit), the side stays interior
+                        if (side == kSideExit)
+                            for (float& sj : s) sj = seed_exit_scalar(sj);
+                        side = kSideInterior;
+                    }
+                    const HavsVaryingPlanes planes = havs_varying_planes(sv, eye, s, side, ts);
+                    if (exact_coverage) {
+                        visit([&](int px, int py) {
+                            apply(havs_seed_entry(fc, havs_varyings_at(planes, px, py, arith)), px, py);
+                        });
+                        continue;
+                    }
+                    // A row span at a time (havs_seed_span.h: the same bits as pixel by pixel), then each pixel's
+                    // k-buffer in column order, as the fragments arrive.
+                    for_each_span_in_tile(ts, tile, [&](int py, int first, int last) {
+                        havs_seed_entries(fc, planes, py, first, last, arith, entries);
+                        for (int px = first; px <= last; ++px) apply(entries[px - first], px, py);
                     });
                     continue;
                 }
-                // A row span at a time (havs_seed_span.h: the same bits as pixel by pixel), then each pixel's
-                // k-buffer in column order, as the fragments arrive.
-                for_each_span_in_tile(ts, tile, [&](int py, int first, int last) {
-                    havs_seed_entries(fc, planes, py, first, last, arith, entries);
-                    for (int px = first; px <= last; ++px) apply(entries[px - first], px, py);
-                });
-                continue;
+                // --interpolation exact: flat per-face constants, in double, rounded once (what the CPU uploads).
+                HavsFace face = havs_face_constants(mesh_, fs, id);
+                if (face.side == kSideExit && facing != Facing::back) face.side = kSideEntry;
+                visit([&](int px, int py) { apply(havs_fragment_entry(fc, face, px, py, exact_coverage), px, py); });
             }
-            // --interpolation exact: flat per-face constants, in double, rounded once (what the CPU uploads).
-            HavsFace face = havs_face_constants(mesh_, fs, id);
-            if (face.side == kSideExit && facing != Facing::back) face.side = kSideEntry;
-            visit([&](int px, int py) { apply(havs_fragment_entry(fc, face, px, py, exact_coverage), px, py); });
-        }
-    });
+        });
+    };
+    // The seed's k with the table's usual path: the program instantiated with k fixed and the sample called directly
+    // (the same operations, so the same bits: tests/test_havs_kbuffer.cpp), which takes a tenth off the frame's
+    // raster+fragment time (docs/gl-backend.md, "Speed"). Anything else: the run-time instance.
+    t0 = Clock::now();
+    const std::optional<TableSegmentShader> table_path = table_segment_shader(mesh_.table(), mesh_.options().filter);
+    if (table_path && k == kbuffer_program::kSeedK) {
+        draw([&](KEntry e, KEntry* entries, glm::vec4& colour, KBufferDiagnostics* d) {
+            return kbuffer_program::run<kbuffer_program::kSeedK>(fc, e, entries, k, colour, *table_path, d);
+        });
+    } else {
+        draw([&](KEntry e, KEntry* entries, glm::vec4& colour, KBufferDiagnostics* d) {
+            return kbuffer_program::run<0>(fc, e, entries, k, colour, shade, d);
+        });
+    }
     st.raster_fragment_ms = ms_since(t0);
 
     // The flush: what k full-screen passes of the flush fragment composite (havs_flush, the same bits).
@@ -215,7 +234,7 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     });
     st.flush_ms = ms_since(t0);
 
-    store_havs_frame(fb, diagnostics_ ? &diag : nullptr, width, height, out);
+    store_havs_frame(fb.data(), diagnostics_ ? &diag : nullptr, width, height, out);
     return out;
 }
 

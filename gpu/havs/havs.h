@@ -40,9 +40,9 @@ struct HavsFrame {
     HavsStats stats;
 };
 
-// The end of a frame, for both backends: the per-pixel colour and diagnostics (GL rows, from the bottom) into `out`
-// (SPEC rows), with the diagnostics summed into out.stats. Without diagnostics the frame's vectors stay empty.
-void store_havs_frame(const std::vector<glm::vec4>& colour, const std::vector<KBufferDiagnostics>* diagnostics,
+// The end of a frame, for both backends: the per-pixel colour (width * height values) and diagnostics (GL rows, from
+// the bottom) into `out` (SPEC rows), with the diagnostics summed into out.stats. Without diagnostics the frame's vectors stay empty.
+void store_havs_frame(const glm::vec4* colour, const std::vector<KBufferDiagnostics>* diagnostics,
                       int width, int height, HavsFrame& out);
 
 // The clip stage's counts into the frame's statistics, for both backends.

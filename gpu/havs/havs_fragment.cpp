@@ -1,5 +1,7 @@
 #include "gpu/havs/havs_fragment.h"
 
+#include "gpu/havs/havs_kbuffer.h"
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -126,126 +128,10 @@ KEntry havs_seed_entry(const HavsFrameConstants& fc, const HavsVaryings& v)
     return KEntry{v.side * one_plus_s, distance};
 }
 
-namespace {
-
-// The program's scratch on the stack holds this many entries (2 KiB, as before k was unbounded: the old limit of 255
-// plus the incoming fragment); a larger k takes a per-thread buffer.
-constexpr int kStackEntries = 256;
-
-// A real entry: neither empty nor a flush fragment (nearer than the encoding's flush distance, as
-// havs_real_entry in shaders/havs_fragment.frag).
-bool real_entry(const HavsFrameConstants& fc, const KEntry& e)
-{
-    return e.y > 0.0f && e.y < (fc.seed_entries ? kSeedFlushFragment.y : kFlushFragment.y);
-}
-// The normalized scalar of an entry (see the entry encoding in havs_fragment.h).
-float decode_scalar(float x)
-{
-    const float m = std::fabs(x);
-    return m < kSideOutside ? m - 1.0f : m < kSideEntry ? m * 0.25f - 1.0f : m * 0.0625f - 1.0f;
-}
-
-
-// The segment of one run of the program, from `front` to `second` (see havs_kbuffer): composited over `fb`, with the
-// diagnostics. Returns whether `second` is to be marked an exit in the buffer. Shared by the program and the flush.
-bool composite_segment(const HavsFrameConstants& fc, KEntry front, KEntry second, glm::vec4& fb,
-                       const SegmentShader& shade, KBufferDiagnostics* diag)
-{
-    // The segment from r0 to r7: table coordinates (MAD for t_z, unfused), then the lookup; nullified when r0's
-    // scalar is negative (a gap, an empty or a flush entry) and, with --gaps maxgap, when it is longer than the gap.
-    const float length = second.y - front.y;
-    glm::vec4 c(0.0f);
-    if (fc.seed_entries) {
-        // --entries seed: CMP c, r0.x, 0.0, c alone, and the scalars are the table's coordinates as they are.
-        if (!(front.x < 0.0f)) c = shade(front.x, second.x, length * fc.length_scale + fc.length_bias, length);
-    } else {
-        // A segment that ends on a flush fragment (distance +inf) never lies inside the mesh: it starts on the last
-        // fragment of the pixel, which is an exit face unless fragments at one distance (a ray exactly through a
-        // surface vertex) were ordered exit-first by rounding. Nor does one that ends on an entry face (exact gaps):
-        // the ray is outside the mesh before it enters. Such a segment's front is an exit face (nullified anyway) or
-        // a fragment that rasterization put in front of the entry face: an interior face sharing an edge with it,
-        // covering a pixel just past that edge through snapping and extrapolated at a grazing angle (0.0027 units in
-        // front on an Oxygen Post pixel, docs/havs.md).
-        const bool nullified = front.x < 0.0f || std::isinf(second.y) || second.x >= kSideEntry ||
-                               (fc.max_gap > 0.0f && length > fc.max_gap);
-        if (!nullified) {
-            const float t_z = length * fc.length_scale + fc.length_bias;
-            c = shade(decode_scalar(front.x), decode_scalar(second.x), t_z, length);
-        }
-    }
-    // Ordering: in front-to-back order each segment starts where the previous one ended. A front nearer than the
-    // previous segment's back means a fragment arrived after the segment across it was composited.
-    if (diag && real_entry(fc, front)) {
-        if (front.y < diag->last_back) ++diag->ordering_errors;
-        if (real_entry(fc, second)) diag->last_back = std::fmax(diag->last_back, second.y);
-    }
-    // Front to back: fb = c * (1 - fb.a) + fb, per channel (MAD, unfused).
-    const float one_minus_a = 1.0f - fb.a;
-    fb = glm::vec4(c.r * one_minus_a + fb.r, c.g * one_minus_a + fb.g, c.b * one_minus_a + fb.b,
-                   c.a * one_minus_a + fb.a);
-    if (fc.seed_entries) return false;  // the seed's program re-marks nothing
-    // Exact gaps: behind an exit face the ray is outside the mesh until it meets an entry face. Rasterization can put
-    // a fragment there: a pixel just past the edge where interior faces meet the exit face is covered through
-    // snapping, and their planes, extrapolated at a grazing angle, place the fragment a little behind the exit (2e-5
-    // and 3e-4 units on a torus pixel, docs/havs.md), which would composite a segment outside the mesh. Such a
-    // fragment, extrapolated (kSideOutside) and right behind an exit, is marked an exit in the buffer, so that the
-    // segment starting on it is a gap too. A fragment inside its own triangle is left alone: behind an exit it is a
-    // real one that arrived late (an ordering error), and its segment is real.
-    return real_entry(fc, front) && front.x < 0.0f && real_entry(fc, second) && second.x >= kSideOutside &&
-           second.x < kSideEntry;
-}
-
-}  // namespace
-
 bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& fb, const SegmentShader& shade,
                   KBufferDiagnostics* diag)
 {
-    // KIL (threshold - alpha): the seed kills the fragment once the pixel is opaque enough; nothing is written.
-    if (fc.threshold - fb.a < 0.0f) return false;
-    if (diag && real_entry(fc, a0)) ++diag->fragments;
-    // Find the entry with the smallest distance (r0); the others go to r1..rk. The seed's CMP: on t < 0 the running
-    // minimum stays; otherwise (ties included) the stored entry becomes the minimum and the running one moves on, so
-    // on a tie the entry already in the buffer is composited first.
-    // r is scratch for k + 1 entries, plain floats (x and y apart, as the chains read the distances alone), so that
-    // no call pays for initializing them: on the stack up to kStackEntries, beyond that per thread, kept between calls.
-    float stack_x[kStackEntries], stack_y[kStackEntries];
-    float *rx = stack_x, *ry = stack_y;
-    if (k + 1 > kStackEntries) {
-        thread_local std::vector<float> heap;
-        if (heap.size() < 2 * (std::size_t(k) + 1)) heap.resize(2 * (std::size_t(k) + 1));
-        rx = heap.data();
-        ry = rx + k + 1;
-    }
-    rx[0] = a0.x;
-    ry[0] = a0.y;
-    for (int i = 1; i <= k; ++i) {
-        const float t = ry[0] - a[i - 1].y;
-        if (t < 0.0f) {
-            rx[i] = a[i - 1].x;
-            ry[i] = a[i - 1].y;
-        } else {
-            rx[i] = rx[0];
-            ry[i] = ry[0];
-            rx[0] = a[i - 1].x;
-            ry[0] = a[i - 1].y;
-        }
-    }
-    // The second smallest (r7 of the seed) among r1..rk, by the same chain; it stays in the buffer.
-    int second_i = 1;
-    for (int i = 2; i <= k; ++i) {
-        const float t = ry[second_i] - ry[i];
-        if (!(t < 0.0f)) second_i = i;
-    }
-    if (composite_segment(fc, KEntry{rx[0], ry[0]}, KEntry{rx[second_i], ry[second_i]}, fb, shade, diag))
-        rx[second_i] = -rx[second_i];
-    // Write back r1..rk.
-    uint32_t held = 0;
-    for (int i = 1; i <= k; ++i) {
-        a[i - 1] = KEntry{rx[i], ry[i]};
-        held += real_entry(fc, a[i - 1]) ? 1u : 0u;
-    }
-    if (diag && held > diag->max_held) diag->max_held = held;
-    return true;
+    return kbuffer_program::run<0>(fc, a0, a, k, fb, shade, diag);
 }
 
 void havs_flush(const HavsFrameConstants& fc, const KEntry* a, int k, glm::vec4& fb, const SegmentShader& shade,
@@ -278,7 +164,7 @@ void havs_flush(const HavsFrameConstants& fc, const KEntry* a, int k, glm::vec4&
         // entries run them: their MAD of a zero colour turns a -0 channel into +0, as the ARB program does.)
         if (!fc.seed_entries && std::isinf(front.y)) return;
         KEntry second = pass + 1 < k ? a[order[std::size_t(pass) + 1]] : flush;
-        if (composite_segment(fc, front, second, fb, shade, diag)) second.x = -second.x;
+        if (kbuffer_program::composite_segment(fc, front, second, fb, shade, diag)) second.x = -second.x;
         front = second;
     }
 }

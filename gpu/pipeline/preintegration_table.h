@@ -14,6 +14,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "gpu/pipeline/huge_pages.h"
 #include "gpu/pipeline/texture_sampling.h"
 #include "reference/mesh.h"
 #include "reference/segment_integral.h"
@@ -84,9 +85,9 @@ private:
     Range range_;
     float inv_range_ = 1.0f, length_scale_ = 0.0f, length_bias_ = 0.0f;
     std::size_t texel_count_ = 0;
-    std::vector<float> f32_;
-    std::vector<uint16_t> u16_;
-    std::vector<uint8_t> u8_;
+    HugeVector<float> f32_;  // huge pages: docs/gl-backend.md, "Speed"
+    HugeVector<uint16_t> u16_;
+    HugeVector<uint8_t> u8_;
 };
 
 // ---- Moreland & Angel's partial pre-integration ("A fast high accuracy volume renderer for unstructured data",

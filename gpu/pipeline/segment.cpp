@@ -36,17 +36,21 @@ std::unique_ptr<PreintegrationTable> build_segment_table(const SegmentIntegrator
     return table;
 }
 
+std::optional<TableSegmentShader> table_segment_shader(const PreintegrationTable* table, TextureFilter filter)
+{
+    if (!table) return std::nullopt;
+    const TextureView view = table->view();
+    // The path table->sample (sample_3d) takes on this host, called directly.
+    if (!takes_linear_f32x4_fma(view, filter, host_llvmpipe_cpu())) return std::nullopt;
+    return TableSegmentShader{view};
+}
+
 SegmentShader segment_shader(const PreintegrationTable* table, TextureFilter filter,
                              const SegmentIntegrator& integrator, const Range& range)
 {
     if (table) {
+        if (const std::optional<TableSegmentShader> fast = table_segment_shader(table, filter)) return *fast;
         const LlvmpipeCpu cpu = host_llvmpipe_cpu();
-        const TextureView view = table->view();
-        if (takes_linear_f32x4_fma(view, filter, cpu))  // the path sample_3d takes, called directly
-            return [view](float uf, float ub, float tz, float) {
-                const float coord[3] = {uf, ub, tz};
-                return sample_linear_f32x4_fma(view, coord, 3);
-            };
         return [table, filter, cpu](float uf, float ub, float tz, float) {
             return table->sample(uf, ub, tz, cpu, filter);
         };

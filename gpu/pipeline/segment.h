@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include <glm/vec4.hpp>
 
@@ -32,5 +33,18 @@ std::unique_ptr<PreintegrationTable> build_segment_table(const SegmentIntegrator
 // integral in double of the segment between the normalized scalars.
 SegmentShader segment_shader(const PreintegrationTable* table, TextureFilter filter,
                              const SegmentIntegrator& integrator, const Range& range);
+
+// The table's usual path (RGBA32F, linear, a host with FMA3: sample_linear_f32x4_fma) as a plain callable, which a
+// program can call without std::function's indirection; segment_shader returns the same calls. nullopt where
+// segment_shader takes another path.
+struct TableSegmentShader {
+    TextureView view;
+    glm::vec4 operator()(float u_front, float u_back, float t_z, float /*length*/) const
+    {
+        const float coord[3] = {u_front, u_back, t_z};
+        return sample_linear_f32x4_fma(view, coord, 3);
+    }
+};
+std::optional<TableSegmentShader> table_segment_shader(const PreintegrationTable* table, TextureFilter filter);
 
 }  // namespace uvr::gpu
