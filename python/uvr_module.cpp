@@ -1,6 +1,7 @@
 // The Python module `uvr` (docs/python.md): scenes from files or NumPy arrays, any algorithm's image on any backend,
 // the reference and SPEC §4's measures, as NumPy arrays and dicts. A thin layer over bench/: the same registry, scene
 // set-up and measures the `uvr` program uses, so a render here computes the program's bits.
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -84,6 +85,29 @@ ArrayImage array_image(const py::handle& value, const char* what)
     }
     a.view = uvr::ImageView(a.widened);
     return a;
+}
+
+// uvr's messages name the program's options (--table-size, --algos); a Python caller passes keywords (table_size)
+// and the algorithm as render()'s second argument (algo).
+std::string python_names(const std::string& message)
+{
+    std::string out;
+    for (std::size_t i = 0; i < message.size();) {
+        const bool option = message.compare(i, 2, "--") == 0 && i + 2 < message.size() &&
+                            std::islower(static_cast<unsigned char>(message[i + 2])) &&
+                            (i == 0 || !std::isalnum(static_cast<unsigned char>(message[i - 1])));
+        if (!option) {
+            out += message[i++];
+            continue;
+        }
+        std::size_t j = i + 2;
+        std::string name;
+        for (; j < message.size() && (std::isalnum(static_cast<unsigned char>(message[j])) || message[j] == '-'); ++j)
+            name += message[j] == '-' ? '_' : message[j];
+        out += name == "algos" ? "algo" : name;
+        i = j;
+    }
+    return out;
 }
 
 // Keyword options of render(): the program's option names with '_' for '-' (--table-size: table_size).
@@ -265,8 +289,16 @@ PYBIND11_MODULE(uvr, m)
 {
     m.doc() = "uvr: how right GPU volume renderers of tetrahedral meshes are (docs/python.md)";
     m.attr("__version__") = "0.1";
-    // Every error uvr reports (a file, an option, an array) arrives as uvr.Error, a ValueError, with uvr's message.
-    py::register_exception<InputError>(m, "Error", PyExc_ValueError);
+    // Every error uvr reports (a file, an option, an array) arrives as uvr.Error, a ValueError, with uvr's message,
+    // its options named as Python passes them (python_names).
+    static py::exception<InputError> error(m, "Error", PyExc_ValueError);
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const InputError& e) {
+            error(python_names(e.what()).c_str());
+        }
+    });
 
     py::class_<Data>(m, "Data", "A mesh or volume made from arrays; hand it to uvr.Scene");
 

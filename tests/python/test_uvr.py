@@ -192,7 +192,9 @@ def test_bad_input_raises_uvr_error_with_uvrs_message(tmp_path):
         (lambda: uvr.mesh(np.where(points == 1, np.nan, points), tets, scalars), "arrays"),
         (lambda: uvr.mesh(points, tets, scalars[:-1]), "arrays"),
         (lambda: uvr.volume(np.zeros((4, 4))), "Z x Y x X"),
-        (lambda: uvr.Scene("builtin:torus-small", size=(0, 10)), "--size"),
+        (lambda: uvr.Scene("builtin:torus-small", size=(0, 10)), "size"),
+        (lambda: uvr.render(scene, "havs", k=0), "k must be at least 1"),
+        (lambda: uvr.render(scene, "havs", table_size=1), "table_size"),
         (lambda: uvr.Scene("builtin:torus-small", tf={"color": []}), "tf (dict)"),
         (lambda: uvr.Scene("builtin:torus-small", camera=scene.camera, view=(1, 2)), "not both"),
         (lambda: uvr.measure(np.zeros((4, 4, 4), np.float32), np.zeros((4, 5, 4), np.float32)), "cannot compare"),
@@ -202,6 +204,8 @@ def test_bad_input_raises_uvr_error_with_uvrs_message(tmp_path):
         with pytest.raises(uvr.Error) as e:
             call()
         assert phrase in str(e.value)
+        # Options are named as Python passes them (table_size), never as the program's --table-size.
+        assert "--" not in str(e.value), str(e.value)
 
 
 def python_blocks(path):
