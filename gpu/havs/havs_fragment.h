@@ -140,7 +140,7 @@ struct KBufferDiagnostics {
 
 
 // One run of the fragment program on one pixel. `entries` holds the k stored entries (a1..ak of the seed). Returns
-// false when the fragment is killed (the framebuffer's alpha is above the threshold): nothing is written.
+// false when the fragment is killed (the framebuffer's alpha is above the threshold) or k < 1: nothing is written.
 bool havs_kbuffer(const HavsFrameConstants& fc, KEntry incoming, KEntry* entries, int k, glm::vec4& framebuffer,
                   const SegmentShader& shade, KBufferDiagnostics* diag);
 

@@ -116,6 +116,7 @@ bool run(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& f
          KBufferDiagnostics* diag)
 {
     if constexpr (K > 0) k = K;
+    if (k < 1) return false;  // no stored entry to composite with: the renderers refuse such a k (--k)
     // KIL (threshold - alpha): the seed kills the fragment once the pixel is opaque enough; nothing is written.
     if (fc.threshold - fb.a < 0.0f) return false;
     if (diag && real_entry(fc, a0)) ++diag->fragments;
