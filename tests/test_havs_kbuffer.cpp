@@ -113,6 +113,19 @@ TEST_CASE("the nearest entry is composited with the second nearest, and the rest
     CHECK(kept == std::vector<float>{3.0f, 4.0f, 5.0f});
 }
 
+TEST_CASE("with no stored entry (k = 0) the program composites nothing and writes nothing")
+{
+    // The renderers refuse --k 0; the program itself must not read a second entry that does not exist.
+    Recorder rec;
+    glm::vec4 fb(0.25f, 0.25f, 0.25f, 0.5f);
+    const glm::vec4 before = fb;
+    KEntry none[1] = {frag(0.3f, 7.0f)};  // past the end of a k = 0 buffer: never read or written
+    CHECK_FALSE(havs_kbuffer(frame(), frag(0.2f, 2.0f), none, 0, fb, rec.shader(), nullptr));
+    CHECK(rec.calls.empty());
+    CHECK(fb == before);
+    CHECK(none[0].y == 7.0f);
+}
+
 TEST_CASE("compositing is front to back: the framebuffer gains c (1 - alpha)")
 {
     Recorder rec;
