@@ -167,6 +167,29 @@ TEST_CASE("uvr render --algo reference writes the image and reuses the cache")
     unsetenv("UVR_CACHE_DIR");
 }
 
+TEST_CASE("uvr bench times HAVS without counting fragments and prints no fragment rate for it")
+{
+    // A timed frame runs without per-pixel diagnostics (so the emulation and GL do the same work): no fragment count,
+    // so no rate, rather than a rate of 0.
+    const std::string args = "bench builtin:torus-small --size 48x40 --algos havs --backend emu,gl --repeat 1 --warmup 0";
+    const CommandResult j = run_uvr(args + " --json");
+    INFO(j.err);
+    REQUIRE(j.exit_code == 0);
+    const auto rows = nlohmann::json::parse(j.out)["results"];
+    REQUIRE(rows.size() == 2);
+    for (const auto& row : rows) {
+        INFO(row.dump());
+        CHECK(row["diagnostics"] == false);
+        CHECK_FALSE(row.contains("fragments_per_s"));
+        CHECK(row["frame_ms"].get<double>() > 0.0);
+    }
+    const CommandResult t = run_uvr(args);
+    INFO(t.out << t.err);
+    REQUIRE(t.exit_code == 0);
+    CHECK(t.out.find("raster+fragment") != std::string::npos);
+    CHECK(t.out.find("Mfragments/s") == std::string::npos);
+}
+
 TEST_CASE("uvr render with the camera inside the mesh: HAVS and VICP render it on both backends with the same bits")
 {
     // VTK's post.vtk seen from a point inside its flow region (issue 10; docs/havs.md "Views that cut the mesh").
