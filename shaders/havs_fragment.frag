@@ -1,4 +1,5 @@
-// HAVS's fragment stage (seed 000, Appendix II): the GLSL twin of gpu/havs/havs_fragment.cpp, operation for operation.
+// HAVS's fragment stage (seed 000, Appendix II): the GLSL twin of gpu/havs/havs_fragment.cpp (and of
+// gpu/havs/havs_kbuffer.h, the k-buffer program), operation for operation.
 // Read that file's header first; the comments here only say where GLSL needs care.
 //
 // This file holds the stage's functions, no main(): a pass appends its own main (the harness:
