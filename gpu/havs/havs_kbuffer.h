@@ -1,8 +1,9 @@
-// HAVS's k-buffer program (seed 000, Appendix II; the second part of havs_fragment.h's fragment stage), written once
-// as a template over the stored-entry count K (0: k given at run time) and the segment shader's type. havs_kbuffer
-// and havs_flush (havs_fragment.h) are its run-time k, SegmentShader instance; the emulated frame (havs.cpp) also runs
-// it for the seed's k = 6 with the table's usual path (TableSegmentShader), chains unrolled and the sample called
-// directly: the same operations, so the same bits (tests/test_havs_kbuffer.cpp). Derivation: docs/havs.md.
+// HAVS's k-buffer program (seed 000, Appendix II; the second part of havs_fragment.h's fragment stage), a template
+// over the stored-entry count K (0: k given at run time) and the segment shader's type. havs_kbuffer and havs_flush
+// (havs_fragment.h) are its run-time k, SegmentShader instance (run_any_k: the chains branch); the emulated frame
+// (havs.cpp) also runs it for the seed's k = 6 with the table's usual path (TableSegmentShader: chains unrolled,
+// selecting by conditional moves, the sample called directly). The same operations, so the same bits
+// (tests/test_havs_kbuffer.cpp). Derivation: docs/havs.md; speed: docs/gl-backend.md, "Speed".
 #pragma once
 
 #include <cmath>
@@ -110,62 +111,108 @@ inline float bits_distance(uint64_t b)
 // -x of an entry: x's sign bit flipped, as float negation does (NaN included).
 inline constexpr uint64_t kScalarSignBit = 0x80000000u;
 
+// One run of the program with k read at run time (any k, up to thousands): the chains branch on the distances, which
+// on long chains costs less than the conditional moves of run<K> (at k = 16 those made a Blunt Fin frame 12 % slower).
+// The same operations as run<K> (tests/test_havs_kbuffer.cpp holds the two to the same bits at k = 6).
+// Called by run after the kill and the fragment count, with k >= 1.
+template <class Shade>
+bool run_any_k(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& fb, const Shade& shade,
+               KBufferDiagnostics* diag)
+{
+    // Find the entry with the smallest distance (r0); the others go to r1..rk. The seed's CMP: on t < 0 the running
+    // minimum stays; otherwise (ties included) the stored entry becomes the minimum and the running one moves on, so
+    // on a tie the entry already in the buffer is composited first. t is the seed's difference, not a comparison of
+    // the two distances: with denormals flushed a tiny difference is 0, and inf - inf is NaN.
+    // r is scratch for k + 1 entries, plain floats (x and y apart, as the chains read the distances alone), so that
+    // no call pays for initializing them: on the stack up to kStackEntries, beyond that per thread, kept between calls.
+    if (k < 1) return false;  // run's guard, repeated where the compiler sees the chains (r1 must exist)
+    float stack_x[kStackEntries], stack_y[kStackEntries];
+    float *rx = stack_x, *ry = stack_y;
+    if (k + 1 > kStackEntries) {
+        thread_local std::vector<float> heap;
+        if (heap.size() < 2 * (std::size_t(k) + 1)) heap.resize(2 * (std::size_t(k) + 1));
+        rx = heap.data();
+        ry = rx + k + 1;
+    }
+    rx[0] = a0.x;
+    ry[0] = a0.y;
+    for (int i = 1; i <= k; ++i) {
+        const float t = ry[0] - a[i - 1].y;
+        if (t < 0.0f) {
+            rx[i] = a[i - 1].x;
+            ry[i] = a[i - 1].y;
+        } else {
+            rx[i] = rx[0];
+            ry[i] = ry[0];
+            rx[0] = a[i - 1].x;
+            ry[0] = a[i - 1].y;
+        }
+    }
+    // The second smallest (r7 of the seed) among r1..rk, by the same chain; it stays in the buffer.
+    int second_i = 1;
+    for (int i = 2; i <= k; ++i) {
+        const float t = ry[second_i] - ry[i];
+        if (!(t < 0.0f)) second_i = i;
+    }
+    if (composite_segment(fc, KEntry{rx[0], ry[0]}, KEntry{rx[second_i], ry[second_i]}, fb, shade, diag))
+        rx[second_i] = -rx[second_i];
+    // Write back r1..rk.
+    uint32_t held = 0;
+    for (int i = 1; i <= k; ++i) {
+        a[i - 1] = KEntry{rx[i], ry[i]};
+        if (diag) held += real_entry(fc, a[i - 1]) ? 1u : 0u;
+    }
+    if (diag && held > diag->max_held) diag->max_held = held;
+    return true;
+}
+
 // One run of the program on one pixel (havs_kbuffer's contract); K > 0 fixes k at compile time (`k` is then K).
 template <int K, class Shade>
 bool run(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& fb, const Shade& shade,
          KBufferDiagnostics* diag)
 {
+    static_assert(K >= 0);
     if constexpr (K > 0) k = K;
     if (k < 1) return false;  // no stored entry to composite with: the renderers refuse such a k (--k)
     // KIL (threshold - alpha): the seed kills the fragment once the pixel is opaque enough; nothing is written.
     if (fc.threshold - fb.a < 0.0f) return false;
     if (diag && real_entry(fc, a0)) ++diag->fragments;
-    // Find the entry with the smallest distance (r0); the others go to r1..rk. The seed's CMP: on t < 0 the running
-    // minimum stays; otherwise (ties included) the stored entry becomes the minimum and the running one moves on, so
-    // on a tie the entry already in the buffer is composited first. t is the seed's difference, not a comparison of
-    // the two distances: with denormals flushed a tiny difference is 0, and inf - inf is NaN.
-    // r is scratch for k + 1 entries, on the stack up to kStackEntries, beyond that per thread, kept between calls,
-    // so that no call pays for initializing it.
-    constexpr int kScratch = K > 0 ? K + 1 : kStackEntries;
-    uint64_t stack_r[kScratch];
-    uint64_t* r = stack_r;
-    if (K == 0 && k + 1 > kStackEntries) {
-        thread_local std::vector<uint64_t> heap;
-        if (heap.size() < std::size_t(k) + 1) heap.resize(std::size_t(k) + 1);
-        r = heap.data();
-    }
-    uint64_t r0 = entry_bits(a0);
-    float d0 = a0.y;
+    if constexpr (K == 0) {
+        return run_any_k(fc, a0, a, k, fb, shade, diag);
+    } else {
+        // The chains of run_any_k, unrolled, on the entries' 64 bits, selecting by conditional moves.
+        uint64_t r[K + 1];
+        uint64_t r0 = entry_bits(a0);
+        float d0 = a0.y;
 #pragma GCC unroll 16
-    for (int i = 1; i <= k; ++i) {
-        const uint64_t ai = entry_bits(a[i - 1]);
-        const float di = a[i - 1].y;
-        const bool keep = d0 - di < 0.0f;
-        r[i] = keep ? ai : r0;
-        r0 = keep ? r0 : ai;
-        d0 = keep ? d0 : di;
-    }
-    // The second smallest (r7 of the seed) among r1..rk, by the same chain; it stays in the buffer.
-    int second_i = 1;
-    float ds = bits_distance(r[1]);
+        for (int i = 1; i <= K; ++i) {
+            const uint64_t ai = entry_bits(a[i - 1]);
+            const float di = a[i - 1].y;
+            const bool keep = d0 - di < 0.0f;  // the seed's t < 0
+            r[i] = keep ? ai : r0;
+            r0 = keep ? r0 : ai;
+            d0 = keep ? d0 : di;
+        }
+        int second_i = 1;
+        float ds = bits_distance(r[1]);
 #pragma GCC unroll 16
-    for (int i = 2; i <= k; ++i) {
-        const float di = bits_distance(r[i]);
-        const bool take = !(ds - di < 0.0f);
-        second_i = take ? i : second_i;
-        ds = take ? di : ds;
-    }
-    if (composite_segment(fc, bits_entry(r0), bits_entry(r[second_i]), fb, shade, diag))
-        r[second_i] ^= kScalarSignBit;
-    // Write back r1..rk.
-    uint32_t held = 0;
+        for (int i = 2; i <= K; ++i) {
+            const float di = bits_distance(r[i]);
+            const bool take = !(ds - di < 0.0f);
+            second_i = take ? i : second_i;
+            ds = take ? di : ds;
+        }
+        if (composite_segment(fc, bits_entry(r0), bits_entry(r[second_i]), fb, shade, diag))
+            r[second_i] ^= kScalarSignBit;
+        uint32_t held = 0;
 #pragma GCC unroll 16
-    for (int i = 1; i <= k; ++i) {
-        a[i - 1] = bits_entry(r[i]);
-        if (diag) held += real_entry(fc, a[i - 1]) ? 1u : 0u;
+        for (int i = 1; i <= K; ++i) {
+            a[i - 1] = bits_entry(r[i]);
+            if (diag) held += real_entry(fc, a[i - 1]) ? 1u : 0u;
+        }
+        if (diag && held > diag->max_held) diag->max_held = held;
+        return true;
     }
-    if (diag && held > diag->max_held) diag->max_held = held;
-    return true;
 }
 
 }  // namespace uvr::gpu::kbuffer_program
