@@ -86,9 +86,9 @@ bool composite_segment(const HavsFrameConstants& fc, KEntry front, KEntry second
            second.x < kSideEntry;
 }
 
-// An entry as its 64 bits (x low, y high): the chains below select entries by integer moves, which compile to
-// conditional moves, rather than by branches on the distances, which mispredict (the order in which a pixel's slots
-// hold its entries changes with every run). Moving bits changes no value.
+// An entry as its 64 bits (x low, y high): run<K>'s unrolled chains select entries by integer moves, which compile to
+// conditional moves, rather than by branches on the distances, which mispredict on short chains (the order in which a
+// pixel's slots hold its entries changes with every run). Moving bits changes no value.
 inline uint64_t entry_bits(const KEntry& e)
 {
     uint64_t b;

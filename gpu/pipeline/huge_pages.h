@@ -36,11 +36,6 @@ struct HugePageAllocator {
     {
         return true;
     }
-    template <class U>
-    bool operator!=(const HugePageAllocator<U>&) const noexcept
-    {
-        return false;
-    }
 };
 
 template <class T>
