@@ -40,6 +40,10 @@ void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
                    "program as printed: the scalar itself, exit faces negative; the default with --backend arb)");
     cmd.add_option("--arb-draw", o.arb_draw, "With --backend arb: triangles per draw call (0: 131072)");
     cmd.add_flag("--arb-barrier", o.arb_barrier, "With --backend arb: a texture barrier after every draw call");
+    cmd.add_option("--send", o.send,
+                   "HAVS with --backend gl or arb: covered (the CPU sends the triangles that cover a pixel; the same "
+                   "image) | all (every face, as the seed does)")
+        ->capture_default_str();
     cmd.add_option("--threshold", o.threshold, "Early-termination opacity (HAVS 0.99, VICP 1; 1 switches it off)");
     cmd.add_option("--table-size", o.table_size, "HAVS: pre-integration table texels per axis")->capture_default_str();
     cmd.add_option("--table-format", o.table_format, "HAVS: f32 | u16 | u8")->capture_default_str();
@@ -121,6 +125,7 @@ gpu::HavsOptions havs_options(const AlgoOptions& a)
     if (entries != "marked" && entries != "seed") throw InputError("", "--entries must be marked or seed");
     o.entries = entries == "seed" ? gpu::EntryEncoding::seed : gpu::EntryEncoding::marked;
     if (a.backend == "arb") gpu::check_arb_options(o);
+    if (a.send != "covered" && a.send != "all") throw InputError("", "--send must be covered or all");
     return o;
 }
 
@@ -245,6 +250,11 @@ private:
 
 // --- HAVS (gpu/havs/): emulated, or on GL ---
 
+gpu::TriangleSubmission submission(const AlgoOptions& a)
+{
+    return a.send == "all" ? gpu::TriangleSubmission::all : gpu::TriangleSubmission::covered;
+}
+
 class HavsRendererEntry : public Renderer {
 public:
     HavsRendererEntry(const Scene& s, const AlgoOptions& a) : a_(a)
@@ -265,6 +275,7 @@ public:
             arb_ = std::make_unique<gpu::ArbHavsRenderer>(*ctx_, s.mesh(), *s.topology, s.field, s.tf, o);
             arb_->set_triangles_per_draw(a.arb_draw);
             arb_->set_barrier_after_each_draw(a.arb_barrier);
+            arb_->set_submission(submission(a));
             diagnostics_ = false;
             return;
         }
@@ -275,6 +286,7 @@ public:
                                      std::to_string(kmax_diag) + " on " + ctx_->info().renderer);
         diagnostics_ = a.diagnostics && a.k <= kmax_diag;
         gl_ = std::make_unique<gpu::GlHavsRenderer>(*ctx_, s.mesh(), *s.topology, s.field, s.tf, o, diagnostics_);
+        gl_->set_submission(submission(a));
     }
 
     AlgoResult render(const Camera& camera, int width, int height) override
@@ -295,7 +307,7 @@ public:
                    {"table_ms", st.table_ms},
                    {"clip", {{"triangles", st.triangles}, {"clipped_faces", st.clipped_faces},
                              {"culled_faces", st.culled_faces}, {"near_sections", st.near_sections},
-                             {"gpu_clipped", st.gpu_clipped}}},
+                             {"gpu_clipped", st.gpu_clipped}, {"uncovered", st.uncovered}}},
                    {"stages_ms", {{"sort", st.sort_ms}, {"vertex_and_setup", st.setup_ms},
                                   {"raster_and_fragment", st.raster_fragment_ms}, {"flush", st.flush_ms},
                                   {"readback", st.readback_ms}}}};
@@ -305,7 +317,10 @@ public:
             r.stats["max_held"] = st.max_held;
             r.stats["ordering_errors"] = st.ordering_errors;
         }
-        if (ctx_) r.stats["gl"] = ctx_->info().summary();
+        if (ctx_) {
+            r.stats["gl"] = ctx_->info().summary();
+            r.stats["send"] = a_.send;
+        }
         r.stats["diagnostics"] = diagnostics_;
         r.image = std::move(f.image);
         r.fragments = std::move(f.fragments);

@@ -39,6 +39,9 @@ struct AlgoOptions {
     // conformant GL would need; docs/havs-arb.md, "Reading the targets").
     std::size_t arb_draw = 0;
     bool arb_barrier = false;
+    // HAVS on GL and ARB: which triangles the CPU sends, covered (those that cover a pixel; the same image) | all
+    // (every face, as the seed sends them). docs/gl-backend.md, "Triangles that cover no pixel".
+    std::string send = "covered";
     double threshold = -1.0;  // per algorithm default (SPEC §3): HAVS 0.99
     int table_size = 128;
     std::string table_format = "f32";

@@ -38,6 +38,7 @@ struct BenchArgs {
     std::string entries;        // HAVS: marked | seed (empty: the backend's default)
     std::size_t arb_draw = 0;   // --backend arb: triangles per draw
     bool arb_barrier = false;   // --backend arb: a texture barrier after each draw
+    std::string send = "covered";  // HAVS on gl and arb: covered | all (AlgoOptions::send)
     bool json = false;
 };
 
@@ -121,6 +122,9 @@ void register_bench(CLI::App& app)
     cmd->add_option("--entries", a->entries, "HAVS: marked | seed (default: seed with arb, else marked)");
     cmd->add_option("--arb-draw", a->arb_draw, "With the arb backend: triangles per draw call (0: 131072)");
     cmd->add_flag("--arb-barrier", a->arb_barrier, "With the arb backend: a texture barrier after every draw call");
+    cmd->add_option("--send", a->send,
+                    "HAVS on the gl and arb backends: covered (the triangles that cover a pixel) | all (every face)")
+        ->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     cmd->callback([a] {
         const std::vector<std::string> algos = split_list(a->algos), backends = split_list(a->backends);
@@ -171,6 +175,7 @@ void register_bench(CLI::App& app)
                     o.entries = a->entries;
                     o.arb_draw = a->arb_draw;
                     o.arb_barrier = a->arb_barrier;
+                    o.send = a->send;
                 }
                 for (const AlgoOptions& v : algo.bench_variants(o, orders)) out["results"].push_back(time_frames(s, *a, algo, v));
             }

@@ -137,11 +137,12 @@ AlgoOptions algo_options(const py::kwargs& kwargs)
             else if (key == "volume_format") o.volume_format = v.cast<std::string>();
             else if (key == "arb_draw") o.arb_draw = v.cast<std::size_t>();
             else if (key == "arb_barrier") o.arb_barrier = v.cast<bool>();
+            else if (key == "send") o.send = v.cast<std::string>();
             else
                 throw InputError("", "unknown option '" + key +
                                          "' (backend, gl, k, segment, gaps, order, coverage, interpolation, entries, "
                                          "threshold, table_size, table_format, cache, step, preintegrate, light, "
-                                         "volume_format, arb_draw, arb_barrier)");
+                                         "volume_format, arb_draw, arb_barrier, send)");
         } catch (const py::cast_error&) {
             throw InputError("", "option '" + key + "' has the wrong type: " +
                                      py::str(py::type::of(v)).cast<std::string>());

@@ -130,6 +130,30 @@ TEST_CASE("the GL HAVS frame equals the emulated frame bit for bit")
     }
 }
 
+TEST_CASE("the GL HAVS frame leaves out the triangles that cover no pixel and keeps the bits of sending every one")
+{
+    // Blunt Fin at 256 x 192: most of its 381,355 faces are smaller than a pixel there, as at 512 x 512 (56 %).
+    const Scene s = test::blunt_fin();
+    const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, -40.0, 70.0);
+    HavsOptions o;
+    GlHavsRenderer gl(osmesa(), s.mesh, s.topo, s.field, s.tf, o, true);
+    gl.set_faces_per_draw(50000);  // several draws, each with its own share left out
+    const HavsFrame covered = gl.render(cam, 256, 192);
+    gl.set_submission(TriangleSubmission::all);
+    const HavsFrame all = gl.render(cam, 256, 192);
+    INFO(covered.stats.uncovered << " of " << covered.stats.triangles << " triangles left out");
+    CHECK(covered.stats.uncovered > covered.stats.triangles / 4);
+    CHECK(covered.stats.uncovered < covered.stats.triangles);
+    CHECK(all.stats.uncovered == 0);
+    CHECK(covered.stats.draws == all.stats.draws);
+    const FrameDiff d = diff(covered, all);
+    INFO(d.differing << " of " << d.pixels << " pixels differ; " << d.first);
+    CHECK(d.differing == 0);
+    CHECK(d.coverage_differs == 0);
+    CHECK(d.diagnostics_differ == 0);
+    CHECK(covered.stats.fragments == all.stats.fragments);
+}
+
 TEST_CASE("the GL HAVS frame through EGL equals the emulated frame bit for bit")
 {
     // Without a GPU, EGL gives Mesa's software device: the same llvmpipe as OSMesa, reached another way.

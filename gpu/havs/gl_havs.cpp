@@ -270,16 +270,20 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     // built and uploaded just before it: neither the CPU nor Mesa holds more than a few chunks of them.
     const std::size_t chunk = faces_per_draw();
     GlDrawThrottle throttle(ctx_, kDrawsInFlight);
+    std::vector<uint32_t> sent;  // a draw's triangles as sent (havs_sent_triangles)
     if (seed) {
         // --interpolation gpu: each triangle's three vertices with the seed's attributes, drawn in order.
         std::vector<SeedVertex> stream(3 * std::min(chunk, ntris));
         gl.BindVertexArray(gl_->seed_vao);
         gl.BindBuffer(GL_ARRAY_BUFFER, gl_->seed_buffer);
         for (std::size_t c0 = 0; c0 < ntris; c0 += chunk) {
-            const std::size_t n = std::min(chunk, ntris - c0);
             t0 = Clock::now();
+            const std::size_t count = std::min(chunk, ntris - c0);
+            havs_sent_triangles(mesh_, fs, c0, count, submission_, sent);
+            const std::size_t n = sent.size();
+            st.uncovered += count - n;
             tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-                const uint32_t id = fs.draw[c0 + i];
+                const uint32_t id = sent[i];
                 const uint32_t* v = fs.triangle(mesh_, id);
                 float side = havs_face_side(mesh_, fs, id);
                 bool exit = false;
@@ -306,10 +310,13 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     std::vector<uint32_t> indices(3 * records.size());
     gl.BindBuffer(GL_TEXTURE_BUFFER, gl_->face_buffer);
     for (std::size_t c0 = 0; c0 < (seed ? 0 : ntris); c0 += chunk) {
-        const std::size_t n = std::min(chunk, ntris - c0);
         t0 = Clock::now();
+        const std::size_t count = std::min(chunk, ntris - c0);
+        havs_sent_triangles(mesh_, fs, c0, count, submission_, sent);
+        const std::size_t n = sent.size();
+        st.uncovered += count - n;
         tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-            const uint32_t id = fs.draw[c0 + i];
+            const uint32_t id = sent[i];
             records[i] = pack_havs_face(havs_face_constants(mesh_, fs, id));
             const uint32_t* v = fs.triangle(mesh_, id);
             for (std::size_t j = 0; j < 3; ++j) indices[3 * i + j] = v[j];

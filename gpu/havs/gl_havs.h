@@ -51,6 +51,8 @@ public:
     // GL_MAX_TEXTURE_BUFFER_SIZE texels hold fewer), or `n` when set (tests; 0 goes back to the limit).
     std::size_t faces_per_draw() const;
     void set_faces_per_draw(std::size_t n) { faces_per_draw_ = n; }
+    // Which triangles are sent (havs_sent_triangles): by default those that cover a pixel.
+    void set_submission(TriangleSubmission s) { submission_ = s; }
 
     const HavsMesh& cpu_stage() const { return mesh_; }
     const GlContext& context() const { return ctx_; }
@@ -62,6 +64,7 @@ private:
     bool diagnostics_;
     bool images_ = false;  // the k-buffer through image load/store (KBufferAccess)
     std::size_t faces_per_draw_ = 0;
+    TriangleSubmission submission_ = TriangleSubmission::covered;
     std::unique_ptr<Objects> gl_;
 };
 

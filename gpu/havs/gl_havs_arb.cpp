@@ -204,11 +204,15 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
     const std::size_t ntris = fs.draw.size(), chunk = triangles_per_draw_;
     std::vector<ArbVertex> stream(3 * std::min(chunk, ntris));
     GlDrawThrottle throttle(ctx_, 2);  // as the GLSL driver: two draws in flight at most
+    std::vector<uint32_t> sent;         // a draw's triangles as sent (havs_sent_triangles)
     for (std::size_t c0 = 0; c0 < ntris; c0 += chunk) {
-        const std::size_t n = std::min(chunk, ntris - c0);
         t0 = Clock::now();
+        const std::size_t count = std::min(chunk, ntris - c0);
+        havs_sent_triangles(mesh_, fs, c0, count, submission_, sent);
+        const std::size_t n = sent.size();
+        st.uncovered += count - n;
         tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
-            const uint32_t id = fs.draw[c0 + i];
+            const uint32_t id = sent[i];
             const uint32_t* v = fs.triangle(mesh_, id);
             const bool exit = havs_seed_exit(mesh_, fs, id);
             for (std::size_t j = 0; j < 3; ++j) {

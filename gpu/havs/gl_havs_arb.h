@@ -85,6 +85,8 @@ public:
     // targets"). Neither changes a bit on llvmpipe; tests and the bench set them.
     void set_triangles_per_draw(std::size_t n) { triangles_per_draw_ = n ? n : kDefaultTrianglesPerDraw; }
     void set_barrier_after_each_draw(bool on) { barrier_ = on; }
+    // Which triangles are sent (havs_sent_triangles): by default those that cover a pixel.
+    void set_submission(TriangleSubmission s) { submission_ = s; }
 
     const HavsMesh& cpu_stage() const { return mesh_; }
 
@@ -95,6 +97,7 @@ private:
     HavsMesh mesh_;
     std::size_t triangles_per_draw_ = kDefaultTrianglesPerDraw;
     bool barrier_ = false;
+    TriangleSubmission submission_ = TriangleSubmission::covered;
     std::unique_ptr<Objects> gl_;
 };
 

@@ -31,6 +31,9 @@ struct HavsStats {
     // and drawn triangles with a vertex the GPU's frustum test would clip (0 unless the clip stage's margins failed:
     // there the GL frame may differ from the emulated one).
     uint64_t triangles = 0, clipped_faces = 0, culled_faces = 0, near_sections = 0, gpu_clipped = 0;
+    // The GL backends: drawn triangles not sent because they cover no pixel (havs_sent_triangles; 0 in the emulation,
+    // whose tiles skip them).
+    uint64_t uncovered = 0;
 };
 
 struct HavsFrame {

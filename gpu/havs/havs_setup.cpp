@@ -265,4 +265,23 @@ bool havs_seed_exit(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id)
     return setup_triangle(wv, Framebuffer{fs.width, fs.height, RenderTarget::fbo}).facing == Facing::back;
 }
 
+void havs_sent_triangles(const HavsMesh& hm, const HavsFrameSetup& fs, std::size_t first, std::size_t count,
+                         TriangleSubmission submission, std::vector<uint32_t>& out)
+{
+    const uint32_t* ids = fs.draw.data() + first;
+    out.assign(ids, ids + count);
+    if (submission == TriangleSubmission::all || fs.gpu_clipped != 0) return;
+    const Framebuffer fbuf{fs.width, fs.height, RenderTarget::fbo};
+    std::vector<uint8_t> covered(count);
+    tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
+        const uint32_t* v = fs.triangle(hm, ids[i]);
+        const WindowCoord wv[3] = {fs.win[v[0]], fs.win[v[1]], fs.win[v[2]]};
+        covered[i] = may_cover_pixel(wv) && covers_any_pixel(setup_triangle(wv, fbuf)) ? 1 : 0;
+    });
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < count; ++i)
+        if (covered[i]) out[n++] = ids[i];
+    out.resize(n);
+}
+
 }  // namespace uvr::gpu

@@ -223,4 +223,37 @@ void row_span(const TriangleSetup& s, int py, int& first, int& last)
     last = int(hi);
 }
 
+bool may_cover_pixel(const WindowCoord v[3])
+{
+    int64_t x[3], y[3];
+    for (int i = 0; i < 3; ++i) {
+        x[i] = snap_to_fixed(v[i].x);
+        y[i] = snap_to_fixed(v[i].y);
+        if (x[i] == INT32_MIN || y[i] == INT32_MIN) return true;  // NaN or out of range: left to setup_triangle
+    }
+    // Pixel centres are the multiples of kFixedOne (snap_to_fixed); the arithmetic shift is a floor division.
+    const auto centre_within = [](int64_t lo, int64_t hi) { return (hi >> kFixedOrder) << kFixedOrder >= lo; };
+    return centre_within(std::min({x[0], x[1], x[2]}), std::max({x[0], x[1], x[2]})) &&
+           centre_within(std::min({y[0], y[1], y[2]}), std::max({y[0], y[1], y[2]}));
+}
+
+bool covers_any_pixel(const TriangleSetup& s)
+{
+    if (s.empty()) return false;
+    // Most such triangles are a few pixels wide: their pixels tested one by one (multiplications) cost less than
+    // row_span's 64-bit divisions; 16 is llvmpipe's own small-triangle block (4 x 4).
+    if (int64_t(s.x1 - s.x0 + 1) * int64_t(s.y1 - s.y0 + 1) <= 16) {
+        for (int py = s.y0; py <= s.y1; ++py)
+            for (int px = s.x0; px <= s.x1; ++px)
+                if (covers(s, px, py)) return true;
+        return false;
+    }
+    for (int py = s.y0; py <= s.y1; ++py) {
+        int first = 0, last = -1;
+        row_span(s, py, first, last);
+        if (first <= last) return true;
+    }
+    return false;
+}
+
 }  // namespace uvr::gpu

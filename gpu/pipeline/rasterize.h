@@ -90,6 +90,13 @@ bool covers(const TriangleSetup& s, int px, int py);
 // path used by rasterize_triangle. Solves each edge inequality for px with exact integer floor division.
 void row_span(const TriangleSetup& s, int py, int& first, int& last);
 
+// Whether the triangle covers at least one pixel (the union of row_span over its bounding box is not empty). A
+// triangle that covers none makes no fragment: llvmpipe bins and sets it up for nothing.
+bool covers_any_pixel(const TriangleSetup& s);
+// A quick test before setup_triangle: false when no pixel centre lies within the bounding box of the snapped vertices,
+// so that the triangle covers no pixel; true when it may (covers_any_pixel decides).
+bool may_cover_pixel(const WindowCoord v[3]);
+
 // GL row y (from the bottom) <-> SPEC §2 image row (from the top).
 inline int spec_row(int gl_row, int height) { return height - 1 - gl_row; }
 

@@ -84,6 +84,12 @@ def test_options_reach_the_renderer(tmp_path):
     assert not same_bits(mine, uvr.render(scene, "havs"))
     assert info["stats"]["k"] == 2
     assert info["ms"] > 0
+    # send reaches the GL driver: every face sent (none left out), the same bits as the covered ones alone.
+    every, every_info = uvr.render(scene, "havs", backend="gl", send="all", with_stats=True)
+    covered, covered_info = uvr.render(scene, "havs", backend="gl", with_stats=True)
+    assert every_info["stats"]["send"] == "all" and every_info["stats"]["clip"]["uncovered"] == 0
+    assert covered_info["stats"]["send"] == "covered" and covered_info["stats"]["clip"]["uncovered"] > 0
+    assert same_bits(every, covered)
 
 
 def cube_arrays():
@@ -194,6 +200,7 @@ def test_bad_input_raises_uvr_error_with_uvrs_message(tmp_path):
         (lambda: uvr.volume(np.zeros((4, 4))), "Z x Y x X"),
         (lambda: uvr.Scene("builtin:torus-small", size=(0, 10)), "size"),
         (lambda: uvr.render(scene, "havs", k=0), "k must be at least 1"),
+        (lambda: uvr.render(scene, "havs", backend="gl", send="some"), "send must be covered or all"),
         (lambda: uvr.render(scene, "havs", table_size=1), "table_size"),
         (lambda: uvr.Scene("builtin:torus-small", tf={"color": []}), "tf (dict)"),
         (lambda: uvr.Scene("builtin:torus-small", camera=scene.camera, view=(1, 2)), "not both"),
