@@ -6,7 +6,6 @@
 #include <string>
 #include <vector>
 
-#include <tbb/parallel_for.h>
 
 #include "gpu/gl/gl_draw_throttle.h"
 #include "gpu/gl/gl_framebuffer.h"
@@ -282,9 +281,8 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
             havs_sent_triangles(mesh_, fs, c0, count, submission_, sent);
             const std::size_t n = sent.size();
             st.uncovered += count - n;
-            tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+            for_each_triangle(mesh_, fs, sent.data(), n, [&](std::size_t i, const uint32_t* v) {
                 const uint32_t id = sent[i];
-                const uint32_t* v = fs.triangle(mesh_, id);
                 float side = havs_face_side(mesh_, fs, id);
                 bool exit = false;
                 if (seed_entries) {  // the mark travels in the scalar (havs_seed_exit), the side stays interior
@@ -315,10 +313,9 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
         havs_sent_triangles(mesh_, fs, c0, count, submission_, sent);
         const std::size_t n = sent.size();
         st.uncovered += count - n;
-        tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+        for_each_triangle(mesh_, fs, sent.data(), n, [&](std::size_t i, const uint32_t* v) {
             const uint32_t id = sent[i];
             records[i] = pack_havs_face(havs_face_constants(mesh_, fs, id));
-            const uint32_t* v = fs.triangle(mesh_, id);
             for (std::size_t j = 0; j < 3; ++j) indices[3 * i + j] = v[j];
         });
         gl.BufferData(GL_TEXTURE_BUFFER, GLsizeiptr(n * sizeof(GlHavsFace)), records.data(), GL_STREAM_DRAW);

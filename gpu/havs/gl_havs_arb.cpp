@@ -4,7 +4,6 @@
 #include <cmath>
 #include <vector>
 
-#include <tbb/parallel_for.h>
 
 #include "gpu/gl/gl_draw_throttle.h"
 #include "gpu/gl/gl_framebuffer.h"
@@ -211,9 +210,8 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
         havs_sent_triangles(mesh_, fs, c0, count, submission_, sent);
         const std::size_t n = sent.size();
         st.uncovered += count - n;
-        tbb::parallel_for(std::size_t(0), n, [&](std::size_t i) {
+        for_each_triangle(mesh_, fs, sent.data(), n, [&](std::size_t i, const uint32_t* v) {
             const uint32_t id = sent[i];
-            const uint32_t* v = fs.triangle(mesh_, id);
             const bool exit = havs_seed_exit(mesh_, fs, id);
             for (std::size_t j = 0; j < 3; ++j) {
                 const glm::vec3& p = fs.points_f[v[j]];

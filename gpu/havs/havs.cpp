@@ -113,7 +113,14 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
 
     // Bin the triangles, in drawing order, into screen tiles by their window-space bounding boxes.
     ScreenTiles tiles(width, height);
-    tiles.bin(fs.draw.size(), [&](std::size_t i) { return tiles.range(win, fs.triangle(mesh_, fs.draw[i]), 3); });
+    // With the rasterizer's coverage a triangle with no pixel centre in its snapped bounding box covers nothing
+    // (may_cover_pixel): it goes to no tile, as the GL drivers do not send it (havs_sent_triangles).
+    const bool snapped = mesh_.options().coverage == Coverage::gpu;
+    tiles.bin(fs.draw.size(), [&](std::size_t i) {
+        const uint32_t* v = fs.triangle(mesh_, fs.draw[i]);
+        const WindowCoord wv[3] = {win[v[0]], win[v[1]], win[v[2]]};
+        return snapped && !may_cover_pixel(wv) ? ScreenTiles::Range{} : tiles.range(win, v, 3);
+    });
     st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
 
     // The segment shader: the table as llvmpipe samples it, or the exact integral in double.

@@ -273,8 +273,7 @@ void havs_sent_triangles(const HavsMesh& hm, const HavsFrameSetup& fs, std::size
     if (submission == TriangleSubmission::all || fs.gpu_clipped != 0) return;
     const Framebuffer fbuf{fs.width, fs.height, RenderTarget::fbo};
     std::vector<uint8_t> covered(count);
-    tbb::parallel_for(std::size_t(0), count, [&](std::size_t i) {
-        const uint32_t* v = fs.triangle(hm, ids[i]);
+    for_each_triangle(hm, fs, ids, count, [&](std::size_t i, const uint32_t* v) {
         const WindowCoord wv[3] = {fs.win[v[0]], fs.win[v[1]], fs.win[v[2]]};
         covered[i] = may_cover_pixel(wv) && covers_any_pixel(setup_triangle(wv, fbuf)) ? 1 : 0;
     });

@@ -11,6 +11,9 @@
 #include <memory>
 #include <vector>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <glm/vec3.hpp>
 
 #include "gpu/havs/havs_fragment.h"
@@ -139,6 +142,21 @@ float havs_face_side(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id);
 // --entries seed: whether draw id `id` is an exit face, i.e. lies on a boundary face (exact gaps) the rasterizer sees
 // back-facing (the sign of its fixed-point area, setup_triangle): its vertices then carry seed_exit_scalar(s).
 bool havs_seed_exit(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id);
+
+// Runs f(i, v) in parallel (TBB) for every i in [0, count), v being the three frame vertices of draw id ids[i]. In
+// depth order each triangle's vertex indices are a cache miss, so each task fetches them kPrefetchAhead triangles
+// ahead: about one memory latency (~100 ns) of the GL drivers' work per triangle.
+inline constexpr std::size_t kPrefetchAhead = 16;
+template <class F>
+void for_each_triangle(const HavsMesh& hm, const HavsFrameSetup& fs, const uint32_t* ids, std::size_t count, F&& f)
+{
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            if (i + kPrefetchAhead < r.end()) __builtin_prefetch(fs.triangle(hm, ids[i + kPrefetchAhead]));
+            f(i, fs.triangle(hm, ids[i]));
+        }
+    });
+}
 
 // Which of a frame's triangles a GL driver sends (--send): those that cover a pixel under the rasterizer's snapped
 // coverage, or every one, as the seed does. A triangle that covers no pixel makes no fragment, so the frame's bits are
