@@ -117,6 +117,7 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     // (may_cover_pixel): it goes to no tile, as the GL drivers do not send it (havs_sent_triangles).
     const bool snapped = mesh_.options().coverage == Coverage::gpu;
     tiles.bin(fs.draw.size(), [&](std::size_t i) {
+        if (i + kPrefetchAhead < fs.draw.size()) __builtin_prefetch(fs.triangle(mesh_, fs.draw[i + kPrefetchAhead]));
         const uint32_t* v = fs.triangle(mesh_, fs.draw[i]);
         const WindowCoord wv[3] = {win[v[0]], win[v[1]], win[v[2]]};
         return snapped && !may_cover_pixel(wv) ? ScreenTiles::Range{} : tiles.range(win, v, 3);
@@ -232,13 +233,30 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     }
     st.raster_fragment_ms = ms_since(t0);
 
-    // The flush: what k full-screen passes of the flush fragment composite (havs_flush, the same bits).
+    // The flush: what k full-screen passes of the flush fragment composite (havs_flush, the same bits), with the
+    // table's direct sample where the program had it. A pixel no fragment reached (every entry empty, the colour
+    // +0) is left as it is: its k runs composite empty segments, colour 0 over +0, which changes no bit.
     t0 = Clock::now();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, npix), [&](const tbb::blocked_range<std::size_t>& range) {
-        const FlushDenormals llvmpipe_mxcsr;
-        for (std::size_t p = range.begin(); p != range.end(); ++p)
-            havs_flush(fc, &kbuf[p * std::size_t(k)], k, fb[p], shade, diag_at ? diag_at + p : nullptr);
-    });
+    const glm::vec4 cleared(0.0f);
+    const auto untouched = [&](std::size_t p) {
+        if (std::memcmp(&fb[p], &cleared, sizeof cleared) != 0) return false;
+        for (std::size_t i = p * std::size_t(k); i < (p + 1) * std::size_t(k); ++i)
+            if (std::memcmp(&kbuf[i], &kEmptyEntry, sizeof kEmptyEntry) != 0) return false;
+        return true;
+    };
+    const auto flush_all = [&](const auto& shade_as) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, npix), [&](const tbb::blocked_range<std::size_t>& r) {
+            const FlushDenormals llvmpipe_mxcsr;
+            for (std::size_t p = r.begin(); p != r.end(); ++p)
+                if (!untouched(p))
+                    kbuffer_program::flush(fc, &kbuf[p * std::size_t(k)], k, fb[p], shade_as,
+                                           diag_at ? diag_at + p : nullptr);
+        });
+    };
+    if (table_path)
+        flush_all(*table_path);
+    else
+        flush_all(shade);
     st.flush_ms = ms_since(t0);
 
     store_havs_frame(fb.data(), diagnostics_ ? &diag : nullptr, width, height, out);

@@ -137,36 +137,7 @@ bool havs_kbuffer(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm
 void havs_flush(const HavsFrameConstants& fc, const KEntry* a, int k, glm::vec4& fb, const SegmentShader& shade,
                 KBufferDiagnostics* diag)
 {
-    // k runs of the program on the flush fragment (distance +inf) take the entries out in the order: distance
-    // ascending, and among equal distances the later slot first (the chains' ties, which keep the relative slot
-    // order of entries at one distance from run to run); each run's second entry is the next run's front. A
-    // distance that is NaN, or not nearer than the flush fragment, breaks that order: then the k runs are made as
-    // they are. Derivation: docs/havs.md, "The
-    // flush".
-    const KEntry flush = fc.seed_entries ? kSeedFlushFragment : kFlushFragment;
-    thread_local std::vector<uint32_t> order;
-    order.resize(std::size_t(k));
-    for (int i = 0; i < k; ++i) {
-        if (std::isnan(a[i].y) || a[i].y >= flush.y) {  // the order below needs every entry before the flush's
-            thread_local std::vector<KEntry> copy;
-            copy.assign(a, a + k);
-            for (int pass = 0; pass < k; ++pass) havs_kbuffer(fc, flush, copy.data(), k, fb, shade, diag);
-            return;
-        }
-        order[std::size_t(i)] = uint32_t(i);
-    }
-    std::sort(order.begin(), order.end(),
-              [a](uint32_t i, uint32_t j) { return a[i].y < a[j].y || (a[i].y == a[j].y && i > j); });
-    KEntry front = a[order[0]];
-    for (int pass = 0; pass < k; ++pass) {
-        if (fc.threshold - fb.a < 0.0f) return;  // KIL: this run and every later one write nothing
-        // Once the front is a flush fragment, so is every later entry: the runs composite nothing. (The seed's
-        // entries run them: their MAD of a zero colour turns a -0 channel into +0, as the ARB program does.)
-        if (!fc.seed_entries && std::isinf(front.y)) return;
-        KEntry second = pass + 1 < k ? a[order[std::size_t(pass) + 1]] : flush;
-        if (kbuffer_program::composite_segment(fc, front, second, fb, shade, diag)) second.x = -second.x;
-        front = second;
-    }
+    kbuffer_program::flush(fc, a, k, fb, shade, diag);
 }
 
 }  // namespace uvr::gpu

@@ -1,13 +1,15 @@
 // HAVS's k-buffer program (seed 000, Appendix II; the second part of havs_fragment.h's fragment stage), a template
-// over the stored-entry count K (0: k given at run time) and the segment shader's type. havs_kbuffer and havs_flush
-// (havs_fragment.h) are its run-time k, SegmentShader instance (run_any_k: the chains branch); the emulated frame
-// (havs.cpp) also runs it for the seed's k = 6 with the table's usual path (TableSegmentShader: chains unrolled,
-// selecting by conditional moves, the sample called directly). The same operations, so the same bits
+// over the stored-entry count K (0: k given at run time) and the segment shader's type, and the flush after it.
+// havs_kbuffer and havs_flush (havs_fragment.h) are their run-time k, SegmentShader instances (run_any_k: the chains
+// branch); the emulated frame (havs.cpp) also runs the program for the seed's k = 6 with the table's usual path
+// (TableSegmentShader: chains unrolled, selecting by conditional moves, the sample called directly), and the flush
+// with that shader. The same operations, so the same bits
 // (tests/test_havs_kbuffer.cpp). Derivation: docs/havs.md; speed: docs/gl-backend.md, "Speed".
 #pragma once
 
 #include <cmath>
 #include <cstdint>
+#include <algorithm>
 #include <cstring>
 #include <vector>
 
@@ -212,6 +214,42 @@ bool run(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& f
         }
         if (diag && held > diag->max_held) diag->max_held = held;
         return true;
+    }
+}
+
+// The flush (havs_flush's contract), for any segment shader.
+template <class Shade>
+void flush(const HavsFrameConstants& fc, const KEntry* a, int k, glm::vec4& fb, const Shade& shade,
+           KBufferDiagnostics* diag)
+{
+    // k runs of the program on the flush fragment (distance +inf) take the entries out in the order: distance
+    // ascending, and among equal distances the later slot first (the chains' ties, which keep the relative slot
+    // order of entries at one distance from run to run); each run's second entry is the next run's front. A
+    // distance that is NaN, or not nearer than the flush fragment, breaks that order: then the k runs are made as
+    // they are. Derivation: docs/havs.md, "The flush".
+    const KEntry flush = fc.seed_entries ? kSeedFlushFragment : kFlushFragment;
+    thread_local std::vector<uint32_t> order;
+    order.resize(std::size_t(k));
+    for (int i = 0; i < k; ++i) {
+        if (std::isnan(a[i].y) || a[i].y >= flush.y) {  // the order below needs every entry before the flush's
+            thread_local std::vector<KEntry> copy;
+            copy.assign(a, a + k);
+            for (int pass = 0; pass < k; ++pass) run<0>(fc, flush, copy.data(), k, fb, shade, diag);
+            return;
+        }
+        order[std::size_t(i)] = uint32_t(i);
+    }
+    std::sort(order.begin(), order.end(),
+              [a](uint32_t i, uint32_t j) { return a[i].y < a[j].y || (a[i].y == a[j].y && i > j); });
+    KEntry front = a[order[0]];
+    for (int pass = 0; pass < k; ++pass) {
+        if (fc.threshold - fb.a < 0.0f) return;  // KIL: this run and every later one write nothing
+        // Once the front is a flush fragment, so is every later entry: the runs composite nothing. (The seed's
+        // entries run them: their MAD of a zero colour turns a -0 channel into +0, as the ARB program does.)
+        if (!fc.seed_entries && std::isinf(front.y)) return;
+        KEntry second = pass + 1 < k ? a[order[std::size_t(pass) + 1]] : flush;
+        if (composite_segment(fc, front, second, fb, shade, diag)) second.x = -second.x;
+        front = second;
     }
 }
 
