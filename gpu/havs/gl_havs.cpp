@@ -11,6 +11,7 @@
 #include "gpu/gl/gl_framebuffer.h"
 #include "gpu/gl/gl_preintegration_table.h"
 #include "gpu/havs/gl_havs_fragment.h"
+#include "gpu/havs/gl_havs_stream.h"
 #include "reference/error.h"
 
 namespace uvr::gpu {
@@ -268,21 +269,13 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     // draws, so the pixels see the same sequence as from one draw). Each draw's face constants and vertex indices are
     // built and uploaded just before it: neither the CPU nor Mesa holds more than a few chunks of them.
     const std::size_t chunk = faces_per_draw();
-    GlDrawThrottle throttle(ctx_, kDrawsInFlight);
-    std::vector<uint32_t> sent;  // a draw's triangles as sent (havs_sent_triangles)
     if (seed) {
         // --interpolation gpu: each triangle's three vertices with the seed's attributes, drawn in order.
-        std::vector<SeedVertex> stream(3 * std::min(chunk, ntris));
         gl.BindVertexArray(gl_->seed_vao);
         gl.BindBuffer(GL_ARRAY_BUFFER, gl_->seed_buffer);
-        for (std::size_t c0 = 0; c0 < ntris; c0 += chunk) {
-            t0 = Clock::now();
-            const std::size_t count = std::min(chunk, ntris - c0);
-            havs_sent_triangles(mesh_, fs, c0, count, submission_, sent);
-            const std::size_t n = sent.size();
-            st.uncovered += count - n;
-            for_each_triangle(mesh_, fs, sent.data(), n, [&](std::size_t i, const uint32_t* v) {
-                const uint32_t id = sent[i];
+        draw_havs_stream<SeedVertex>(
+            ctx_, mesh_, fs, chunk, submission_, kDrawsInFlight, st,
+            [&](uint32_t id, const uint32_t* v, SeedVertex* out) {
                 float side = havs_face_side(mesh_, fs, id);
                 bool exit = false;
                 if (seed_entries) {  // the mark travels in the scalar (havs_seed_exit), the side stays interior
@@ -292,18 +285,14 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
                 for (std::size_t j = 0; j < 3; ++j) {
                     const glm::vec3& p = fs.points_f[v[j]];
                     const float s = exit ? seed_exit_scalar(fs.s_f[v[j]]) : fs.s_f[v[j]];
-                    stream[3 * i + j] = SeedVertex{{p.x, p.y, p.z}, s, side};
+                    out[j] = SeedVertex{{p.x, p.y, p.z}, s, side};
                 }
-            });
-            gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(3 * n * sizeof(SeedVertex)), stream.data(), GL_STREAM_DRAW);
-            st.setup_ms += ms_since(t0);
-            t0 = Clock::now();
-            gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(3 * n));
-            throttle.drawn();
-            st.raster_fragment_ms += ms_since(t0);
-            ++st.draws;
-        }
+            },
+            [] {});
     }
+    // --interpolation exact: each draw's face records and vertex indices.
+    GlDrawThrottle throttle(ctx_, kDrawsInFlight);
+    std::vector<uint32_t> sent;  // a draw's triangles as sent (havs_sent_triangles)
     std::vector<GlHavsFace> records(seed ? 0 : std::min(chunk, ntris));
     std::vector<uint32_t> indices(3 * records.size());
     gl.BindBuffer(GL_TEXTURE_BUFFER, gl_->face_buffer);

@@ -5,7 +5,7 @@
 #include <vector>
 
 
-#include "gpu/gl/gl_draw_throttle.h"
+#include "gpu/havs/gl_havs_stream.h"
 #include "gpu/gl/gl_framebuffer.h"
 #include "gpu/gl/gl_preintegration_table.h"
 #include "reference/error.h"
@@ -200,34 +200,19 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
     st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
 
     // The geometry: each triangle's three vertices (an exit face's scalars negated: havs_seed_exit), in sorted order.
-    const std::size_t ntris = fs.draw.size(), chunk = triangles_per_draw_;
-    std::vector<ArbVertex> stream(3 * std::min(chunk, ntris));
-    GlDrawThrottle throttle(ctx_, 2);  // as the GLSL driver: two draws in flight at most
-    std::vector<uint32_t> sent;         // a draw's triangles as sent (havs_sent_triangles)
-    for (std::size_t c0 = 0; c0 < ntris; c0 += chunk) {
-        t0 = Clock::now();
-        const std::size_t count = std::min(chunk, ntris - c0);
-        havs_sent_triangles(mesh_, fs, c0, count, submission_, sent);
-        const std::size_t n = sent.size();
-        st.uncovered += count - n;
-        for_each_triangle(mesh_, fs, sent.data(), n, [&](std::size_t i, const uint32_t* v) {
-            const uint32_t id = sent[i];
+    draw_havs_stream<ArbVertex>(
+        ctx_, mesh_, fs, triangles_per_draw_, submission_, 2 /* as the GLSL driver */, st,
+        [&](uint32_t id, const uint32_t* v, ArbVertex* out) {
             const bool exit = havs_seed_exit(mesh_, fs, id);
             for (std::size_t j = 0; j < 3; ++j) {
                 const glm::vec3& p = fs.points_f[v[j]];
                 const float s = exit ? seed_exit_scalar(fs.s_f[v[j]]) : fs.s_f[v[j]];
-                stream[3 * i + j] = ArbVertex{{p.x, p.y, p.z}, s};
+                out[j] = ArbVertex{{p.x, p.y, p.z}, s};
             }
+        },
+        [&] {
+            if (barrier_) arb.TextureBarrier();
         });
-        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(3 * n * sizeof(ArbVertex)), stream.data(), GL_STREAM_DRAW);
-        st.setup_ms += ms_since(t0);
-        t0 = Clock::now();
-        gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(3 * n));
-        if (barrier_) arb.TextureBarrier();
-        throttle.drawn();
-        st.raster_fragment_ms += ms_since(t0);
-        ++st.draws;
-    }
     t0 = Clock::now();
     gl.Finish();
     ctx_.check_error("the seed's programs on the geometry");
