@@ -6,8 +6,6 @@
 #include <string>
 #include <vector>
 
-
-#include "gpu/gl/gl_draw_throttle.h"
 #include "gpu/gl/gl_framebuffer.h"
 #include "gpu/gl/gl_preintegration_table.h"
 #include "gpu/havs/gl_havs_fragment.h"
@@ -32,10 +30,6 @@ int entry_targets(int k) { return (k + 1) / 2; }
 // tetrahedron, 16 MiB chunks with per-chunk indices at 187 (8 MiB: 186). The frame time does not move with it (Blunt
 // Fin, 512 x 512: 0.69-0.73 s with 128, 16 or 8 MiB). docs/results.md, "Memory".
 constexpr std::size_t kFaceBytesPerDraw = std::size_t(16) << 20;
-
-// Geometry draws llvmpipe may hold unfinished (GlDrawThrottle): two keep its rasterizer threads fed while the next
-// draw's data is built.
-constexpr std::size_t kDrawsInFlight = 2;
 
 // --interpolation gpu: what the seed's vertex program reads per vertex. The vertices are not shared (a face's three
 // carry its side, a per-face attribute), so a triangle sends 3 x 20 bytes.
@@ -226,7 +220,6 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     st.sort_ms = fs.sort_ms;
     store_clip_stats(fs, st);
     auto t0 = Clock::now();
-    const std::size_t ntris = fs.draw.size();
     const bool seed = mesh_.options().interpolation == InterpolationMode::gpu;
     const bool seed_entries = mesh_.options().entries == EntryEncoding::seed;
     if (!seed) {  // --interpolation exact: the shared vertices, drawn by index (the seed's stream is per draw, below)
@@ -274,7 +267,7 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
         gl.BindVertexArray(gl_->seed_vao);
         gl.BindBuffer(GL_ARRAY_BUFFER, gl_->seed_buffer);
         draw_havs_stream<SeedVertex>(
-            ctx_, mesh_, fs, chunk, submission_, kDrawsInFlight, st,
+            ctx_, mesh_, fs, chunk, submission_, st,
             [&](uint32_t id, const uint32_t* v, SeedVertex* out) {
                 float side = havs_face_side(mesh_, fs, id);
                 bool exit = false;
@@ -289,33 +282,25 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
                 }
             },
             [] {});
-    }
-    // --interpolation exact: each draw's face records and vertex indices.
-    GlDrawThrottle throttle(ctx_, kDrawsInFlight);
-    std::vector<uint32_t> sent;  // a draw's triangles as sent (havs_sent_triangles)
-    std::vector<GlHavsFace> records(seed ? 0 : std::min(chunk, ntris));
-    std::vector<uint32_t> indices(3 * records.size());
-    gl.BindBuffer(GL_TEXTURE_BUFFER, gl_->face_buffer);
-    for (std::size_t c0 = 0; c0 < (seed ? 0 : ntris); c0 += chunk) {
-        t0 = Clock::now();
-        const std::size_t count = std::min(chunk, ntris - c0);
-        havs_sent_triangles(mesh_, fs, c0, count, submission_, sent);
-        const std::size_t n = sent.size();
-        st.uncovered += count - n;
-        for_each_triangle(mesh_, fs, sent.data(), n, [&](std::size_t i, const uint32_t* v) {
-            const uint32_t id = sent[i];
-            records[i] = pack_havs_face(havs_face_constants(mesh_, fs, id));
-            for (std::size_t j = 0; j < 3; ++j) indices[3 * i + j] = v[j];
-        });
-        gl.BufferData(GL_TEXTURE_BUFFER, GLsizeiptr(n * sizeof(GlHavsFace)), records.data(), GL_STREAM_DRAW);
-        bind_havs_face_records(ctx_, gl_->face_texture, gl_->face_buffer);
-        gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(3 * n * sizeof(uint32_t)), indices.data(), GL_STREAM_DRAW);
-        st.setup_ms += ms_since(t0);
-        t0 = Clock::now();
-        gl.DrawElements(GL_TRIANGLES, GLsizei(3 * n), GL_UNSIGNED_INT, nullptr);
-        throttle.drawn();
-        st.raster_fragment_ms += ms_since(t0);
-        ++st.draws;
+    } else {
+        // --interpolation exact: each draw's face records and vertex indices.
+        std::vector<GlHavsFace> records(std::min(chunk, fs.draw.size()));
+        std::vector<uint32_t> indices(3 * records.size());
+        gl.BindBuffer(GL_TEXTURE_BUFFER, gl_->face_buffer);
+        draw_havs_chunks(
+            ctx_, mesh_, fs, chunk, submission_, st,
+            [&](const std::vector<uint32_t>& sent) {
+                const std::size_t n = sent.size();
+                for_each_triangle(mesh_, fs, sent.data(), n, [&](std::size_t i, const uint32_t* v) {
+                    records[i] = pack_havs_face(havs_face_constants(mesh_, fs, sent[i]));
+                    for (std::size_t j = 0; j < 3; ++j) indices[3 * i + j] = v[j];
+                });
+                gl.BufferData(GL_TEXTURE_BUFFER, GLsizeiptr(n * sizeof(GlHavsFace)), records.data(), GL_STREAM_DRAW);
+                bind_havs_face_records(ctx_, gl_->face_texture, gl_->face_buffer);
+                gl.BufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(3 * n * sizeof(uint32_t)), indices.data(),
+                              GL_STREAM_DRAW);
+            },
+            [&](std::size_t n) { gl.DrawElements(GL_TRIANGLES, GLsizei(3 * n), GL_UNSIGNED_INT, nullptr); });
     }
     t0 = Clock::now();
     gl.Finish();

@@ -4,10 +4,9 @@
 #include <cmath>
 #include <vector>
 
-
-#include "gpu/havs/gl_havs_stream.h"
 #include "gpu/gl/gl_framebuffer.h"
 #include "gpu/gl/gl_preintegration_table.h"
+#include "gpu/havs/gl_havs_stream.h"
 #include "reference/error.h"
 
 namespace uvr::gpu {
@@ -201,7 +200,7 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
 
     // The geometry: each triangle's three vertices (an exit face's scalars negated: havs_seed_exit), in sorted order.
     draw_havs_stream<ArbVertex>(
-        ctx_, mesh_, fs, triangles_per_draw_, submission_, 2 /* as the GLSL driver */, st,
+        ctx_, mesh_, fs, triangles_per_draw_, submission_, st,
         [&](uint32_t id, const uint32_t* v, ArbVertex* out) {
             const bool exit = havs_seed_exit(mesh_, fs, id);
             for (std::size_t j = 0; j < 3; ++j) {

@@ -3,13 +3,13 @@
 // havs_kbuffer and havs_flush (havs_fragment.h) are their run-time k, SegmentShader instances (run_any_k: the chains
 // branch); the emulated frame (havs.cpp) also runs the program for the seed's k = 6 with the table's usual path
 // (TableSegmentShader: chains unrolled, selecting by conditional moves, the sample called directly), and the flush
-// with that shader. The same operations, so the same bits
-// (tests/test_havs_kbuffer.cpp). Derivation: docs/havs.md; speed: docs/gl-backend.md, "Speed".
+// with that shader. The same operations, so the same bits (tests/test_havs_kbuffer.cpp). Derivation: docs/havs.md;
+// speed: docs/gl-backend.md, "Speed".
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <algorithm>
 #include <cstring>
 #include <vector>
 
