@@ -32,9 +32,10 @@ void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
                    "crosses the primitive; emulation only)")
         ->capture_default_str();
     cmd.add_option("--interpolation", o.interpolation,
-                   "HAVS: gpu (the rasterizer's interpolated varyings, the seed's pipeline; default) | exact (the "
-                   "fragment's values in double from the ray through the pixel centre). VICP and the ray caster: "
-                   "exact only, for now. compare takes the list gpu,exact: HAVS in both modes, side by side");
+                   "HAVS, ray caster: gpu (the rasterizer's interpolated varyings, the seed's pipeline; default) | "
+                   "exact (the fragment's values in double from the ray through the pixel centre). VICP: exact "
+                   "only, for now. compare takes the list gpu,exact: HAVS and the ray caster in both modes, side by "
+                   "side");
     cmd.add_option("--entries", o.entries,
                    "HAVS: marked (exit, entry and extrapolated fragments told apart; default) | seed (the seed's "
                    "program as printed: the scalar itself, exit faces negative; the default with --backend arb)");
@@ -66,12 +67,20 @@ gpu::Coverage coverage_option(const AlgoOptions& a)
     return a.coverage == "exact" ? gpu::Coverage::exact : gpu::Coverage::gpu;
 }
 
-// --interpolation for an algorithm whose seed pipeline is not built yet (VICP and the ray caster, issue 25): exact.
+// --interpolation for an algorithm whose seed pipeline is not built yet (VICP, issue 25): exact.
 void check_exact_interpolation(const AlgoOptions& a, const char* algo)
 {
     if (!a.interpolation.empty() && a.interpolation != "exact")
         throw InputError("", std::string("--interpolation must be exact with ") + algo +
                                  ": its seed's interpolated pipeline is not built yet (docs/interpolation.md)");
+}
+
+// --interpolation gpu (the default: the seed's pipeline) or exact.
+gpu::InterpolationMode interpolation_option(const AlgoOptions& a)
+{
+    if (a.interpolation == "exact") return gpu::InterpolationMode::exact;
+    if (a.interpolation.empty() || a.interpolation == "gpu") return gpu::InterpolationMode::gpu;
+    throw InputError("", "--interpolation must be gpu or exact");
 }
 
 struct TableOptions {
@@ -115,12 +124,7 @@ gpu::HavsOptions havs_options(const AlgoOptions& a)
     o.table_size = t.table_size;
     o.table_format = t.table_format;
     o.coverage = coverage_option(a);
-    if (a.interpolation == "exact")
-        o.interpolation = gpu::InterpolationMode::exact;
-    else if (a.interpolation.empty() || a.interpolation == "gpu")
-        o.interpolation = gpu::InterpolationMode::gpu;
-    else
-        throw InputError("", "--interpolation must be gpu or exact");
+    o.interpolation = interpolation_option(a);
     const std::string entries = a.entries.empty() ? (a.backend == "arb" ? "seed" : "marked") : a.entries;
     if (entries != "marked" && entries != "seed") throw InputError("", "--entries must be marked or seed");
     o.entries = entries == "seed" ? gpu::EntryEncoding::seed : gpu::EntryEncoding::marked;
@@ -145,9 +149,9 @@ gpu::VicpOptions vicp_options(const AlgoOptions& a)
 
 gpu::RaycastOptions raycast_options(const AlgoOptions& a)
 {
-    check_exact_interpolation(a, "--algo raycast");
     const TableOptions t = table_options(a, 0.95);
     gpu::RaycastOptions o;
+    o.interpolation = interpolation_option(a);
     if (coverage_option(a) == gpu::Coverage::exact)
         throw InputError("", "--coverage exact applies to HAVS and VICP: the ray caster's pass covers every pixel");
     if (a.step != -1.0 && !(a.step > 0.0 && std::isfinite(a.step)))
@@ -426,8 +430,19 @@ public:
                    {"rays", st.rays},
                    {"samples", st.samples},
                    {"max_samples_per_pixel", st.max_samples},
+                   {"interpolation", o.interpolation == gpu::InterpolationMode::gpu ? "gpu" : "exact"},
                    {"table_ms", st.table_ms},
                    {"stages_ms", {{"setup", st.setup_ms}, {"march", st.march_ms}, {"readback", st.readback_ms}}}};
+        if (o.interpolation == gpu::InterpolationMode::gpu) {
+            // The seed's box passes: what was drawn, and (emulation only) entries, entries without an exit, overlaps.
+            r.stats["box"] = {{"triangles", st.box_triangles}, {"near_sections", st.near_sections},
+                              {"clipped_faces", st.clipped_faces}, {"gpu_clipped", st.gpu_clipped}};
+            if (emu_) {
+                r.stats["box"]["entries"] = st.entries;
+                r.stats["box"]["unpaired"] = st.unpaired;
+                r.stats["box"]["overlaps"] = st.overlaps;
+            }
+        }
         if (ctx_) r.stats["gl"] = ctx_->info().summary();
         r.image = std::move(f.image);
         r.samples = std::move(f.samples);
@@ -527,7 +542,8 @@ std::vector<Algorithm> make_registry()
 
     r.push_back({"raycast", Inputs::grid, {"emu", "gl"}, [](const AlgoOptions& a) { raycast_options(a); },
                  [](const AlgoOptions& a) {
-                     return "raycast-" + a.backend + (a.preintegrate ? "-preint" : "-post");
+                     return "raycast-" + a.backend + (a.preintegrate ? "-preint" : "-post") +
+                            (a.interpolation == "exact" ? "-exact-interpolation" : "");
                  },
                  [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
                      return std::make_unique<RaycastRendererEntry>(s, a);

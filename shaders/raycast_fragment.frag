@@ -15,6 +15,7 @@ uniform dvec3 rc_ray_d0;
 uniform dvec3 rc_ray_dx, rc_ray_dy;
 uniform dvec3 rc_box_lo, rc_box_hi;
 uniform dvec3 rc_tex_scale, rc_tex_half;
+uniform vec3 rc_tex_extent;
 uniform double rc_step;
 uniform int rc_max_samples;
 uniform int rc_preintegrate;
@@ -124,6 +125,53 @@ RaycastRay raycast_ray(ivec2 pix)
     ray.length = e.length;
     ray.entry = e.entry;
     ray.dir = e.dir;
+    return ray;
+}
+
+// raycast_ray_seed (--interpolation gpu): the ray from the box passes' entry and exit texels. Float, every result
+// precise; the dot product in the order llvmpipe's lowering gives it, inversesqrt as 1 / sqrt (as havs_seed_entry).
+RaycastRay raycast_ray_seed(vec4 front, vec4 back)
+{
+    RaycastRay ray;
+    ray.samples = 0;
+    ray.tex0 = vec3(0.0);
+    ray.dtex = vec3(0.0);
+    ray.tex_exit = vec3(0.0);
+    ray.last_length = 0.0;
+    ray.length = 0.0lf;
+    ray.entry = dvec3(0.0lf);
+    ray.dir = dvec3(0.0lf);
+    if (front.w == 0.0 || back.w == 0.0) return ray;
+    precise vec3 d = vec3(back.x - front.x, back.y - front.y, back.z - front.z);
+    precise vec3 w = vec3(d.x * rc_tex_extent.x, d.y * rc_tex_extent.y, d.z * rc_tex_extent.z);
+    precise float zz = w.z * w.z;
+    precise float yy = w.y * w.y;
+    precise float xx = w.x * w.x;
+    precise float t = (zz + yy) + xx;
+    if (!(t > 0.0)) return ray;
+    precise float rsq = inversesqrt(t);
+    precise float len = t * rsq;
+    // The sample count in double, as raycast_ray_exact's.
+    precise double q = double(len) / rc_step;
+    int n = q < double(rc_max_samples) ? int(q) : rc_max_samples;
+    if (double(n) < q && n < rc_max_samples) n += 1;
+    if (n == 0) return ray;
+    ray.samples = n;
+    ray.length = double(len);
+    precise float scale = rsq * rc_step_f;
+    precise vec3 dtex = vec3(d.x * scale, d.y * scale, d.z * scale);
+    ray.dtex = dtex;
+    ray.tex0 = front.xyz;
+    ray.tex_exit = back.xyz;
+    precise double last = double(len) - double(n - 1) * rc_step;
+    ray.last_length = float(last);
+    precise double inv_length = 1.0lf / double(len);
+    for (int i = 0; i < 3; ++i) {
+        precise double entry = (double(front[i]) - rc_tex_half[i]) / rc_tex_scale[i] + rc_box_lo[i];
+        precise double dir = double(w[i]) * inv_length;
+        ray.entry[i] = entry;
+        ray.dir[i] = dir;
+    }
     return ray;
 }
 

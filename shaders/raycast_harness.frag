@@ -4,6 +4,7 @@
 //   HARNESS_RAY    raycast_ray_exact at pixel harness_pixels[case], every double before its rounding
 //   HARNESS_MARCH  raycast_march of ray harness_rays[case] over the bound textures
 //   HARNESS_LIGHT  raycast_light_factors of harness_lights[case]
+//   HARNESS_RAY_SEED  raycast_ray_seed of the entry and exit texels harness_texels[2 case], [2 case + 1]
 // is defined. The frame constants are the renderer's uniforms (rc_*).
 
 uniform int harness_width;  // pixels per row: case = y * harness_width + x
@@ -81,6 +82,37 @@ void main()
     r.colour = raycast_march(ray, r.samples);
     r.pad = float[3](0.0, 0.0, 0.0);
     harness_results[i] = r;
+}
+
+#elif defined(HARNESS_RAY_SEED)
+
+struct HarnessRay {
+    double length, entry[3], dir[3];
+    float tex0[3], dtex[3], tex_exit[3], last_length;
+    int samples;
+    float pad;
+};
+layout(std430, binding = 0) readonly buffer HarnessTexels { vec4 harness_texels[]; };
+layout(std430, binding = 1) writeonly buffer HarnessRays { HarnessRay harness_rays[]; };
+
+void main()
+{
+    int i = harness_case();
+    if (i >= harness_count) return;
+    RaycastRay ray = raycast_ray_seed(harness_texels[2 * i], harness_texels[2 * i + 1]);
+    HarnessRay h;
+    h.length = ray.length;
+    for (int k = 0; k < 3; ++k) {
+        h.entry[k] = ray.entry[k];
+        h.dir[k] = ray.dir[k];
+        h.tex0[k] = ray.tex0[k];
+        h.dtex[k] = ray.dtex[k];
+        h.tex_exit[k] = ray.tex_exit[k];
+    }
+    h.last_length = ray.last_length;
+    h.samples = ray.samples;
+    h.pad = 0.0;
+    harness_rays[i] = h;
 }
 
 #elif defined(HARNESS_LIGHT)

@@ -14,16 +14,19 @@ namespace {
 
 constexpr int kSize = 64;
 
-RaycastOptions options(bool preintegrate = false, VolumeFormat format = VolumeFormat::native)
+RaycastOptions options(bool preintegrate = false, VolumeFormat format = VolumeFormat::native,
+                       InterpolationMode mode = InterpolationMode::gpu)
 {
     RaycastOptions o;
     o.preintegrate = preintegrate;
     o.volume_format = format;
+    o.interpolation = mode;
     return o;
 }
 
-void require_identical(const Volume& v, const TransferFunction& tf, const Camera& cam, const RaycastOptions& o,
-                       GlContext& ctx = osmesa())
+// Returns the emulated frame's statistics, for the callers' own checks.
+RaycastStats require_identical(const Volume& v, const TransferFunction& tf, const Camera& cam, const RaycastOptions& o,
+                               GlContext& ctx = osmesa())
 {
     const RaycastFrame emu = RaycastRenderer(v, tf, o).render(cam, kSize, kSize);
     GlRaycastRenderer gl(ctx, v, tf, o);
@@ -35,6 +38,7 @@ void require_identical(const Volume& v, const TransferFunction& tf, const Camera
         });
     INFO(v.source << ", texture " << texel_format_name(gl.cpu_stage().texel_format())
                   << (o.preintegrate ? ", pre-integrated" : ", post-classified") << (o.light ? ", shaded" : "")
+                  << (o.interpolation == InterpolationMode::gpu ? ", the seed's passes" : ", exact interpolation")
                   << ", threshold " << o.threshold << ", eye " << cam.eye.x << " " << cam.eye.y << " " << cam.eye.z
                   << ": " << emu.stats.samples << " samples (emulation), " << frame.stats.samples << " (GL)");
     INFO(d.differing << " of " << d.pixels << " pixels differ; " << d.first);
@@ -43,6 +47,12 @@ void require_identical(const Volume& v, const TransferFunction& tf, const Camera
     CHECK(d.coverage_differs == 0);
     CHECK(d.diagnostics_differ == 0);
     CHECK(frame.stats.samples == emu.stats.samples);
+    // The seed's passes: one fragment a pixel in each (the depth test never decides, so the emulation need not model
+    // it: docs/raycast.md, "The seed's passes"), and an exit wherever there is an entry.
+    CHECK(emu.stats.overlaps == 0);
+    CHECK(emu.stats.unpaired == 0);
+    CHECK(emu.stats.gpu_clipped == 0);
+    return emu.stats;
 }
 
 RaycastLight light_beside(const Volume& v)
@@ -64,6 +74,9 @@ TEST_CASE("ray caster on GL equals its emulation on the shared volumes")
                 const test::VolumeScene s = test::volume_scene(rel, az, 23.0);
                 require_identical(s.volume, s.tf, s.camera, options(false));
                 require_identical(s.volume, s.tf, s.camera, options(true));
+                const VolumeFormat native = VolumeFormat::native;
+                require_identical(s.volume, s.tf, s.camera, options(false, native, InterpolationMode::exact));
+                require_identical(s.volume, s.tf, s.camera, options(true, native, InterpolationMode::exact));
             }
         }
     }
@@ -110,8 +123,28 @@ TEST_CASE("ray caster on GL equals its emulation from inside the volume and in o
         Camera cam = s.camera;
         cam.eye = b.center() + glm::dvec3(0.1, 0.2, 0.15) * b.extent();
         cam.target = b.lo;
-        require_identical(s.volume, s.tf, cam, options(false));
+        // The seed's passes see no front face: the near plane's section is the entry.
+        CHECK(require_identical(s.volume, s.tf, cam, options(false)).near_sections > 0);
         require_identical(s.volume, s.tf, cam, options(true));
+        require_identical(s.volume, s.tf, cam, options(false, VolumeFormat::native, InterpolationMode::exact));
+    }
+    SECTION("the near plane cuts the box, the eye outside it")
+    {
+        // Beside a face, outside it by less than the near distance (kNearPlane of the diagonal), looking along it:
+        // the near plane cuts the box's front faces, and its section covers the pixels whose rays start inside the
+        // box's part in front of the plane; the clipped faces cover the rest, meeting the section on shared edges.
+        for (const char* rel : {"vtk-data/hydrogen.vti", "vtk-data/neghip.slc", "vtk-data/ironProt.vtk"}) {
+            const test::VolumeScene t = test::volume_scene(rel);
+            const Bounds c = volume_bounds(t.volume);
+            Camera cam = t.camera;
+            cam.eye = glm::dvec3(c.hi.x + 1e-7 * c.extent().x, c.center().y, c.center().z + 0.3 * c.extent().z);
+            cam.target = glm::dvec3(c.lo.x, c.lo.y + 0.2 * c.extent().y, c.lo.z);
+            cam.fovy_deg = 100.0;
+            const RaycastStats st = require_identical(t.volume, t.tf, cam, options(false));
+            CHECK(st.near_sections > 0);
+            CHECK(st.clipped_faces > 0);
+            require_identical(t.volume, t.tf, cam, options(true));
+        }
     }
     SECTION("orthographic, rays in the box's faces")
     {

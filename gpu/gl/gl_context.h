@@ -72,6 +72,12 @@ GlPlatform parse_gl_platform(const std::string& name);        // throws InputErr
     X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                                                    \
     X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                                                          \
     X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)                                                      \
+    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                                                                  \
+    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                                                            \
+    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                                                                  \
+    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                                                            \
+    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)                                                    \
+    X(PFNGLDEPTHFUNCPROC, DepthFunc)                                                                                \
     X(PFNGLDRAWBUFFERSPROC, DrawBuffers)                                                                            \
     X(PFNGLREADBUFFERPROC, ReadBuffer)                                                                              \
     X(PFNGLREADPIXELSPROC, ReadPixels)                                                                              \

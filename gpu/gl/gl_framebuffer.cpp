@@ -10,6 +10,10 @@ void GlFloatFramebuffer::release()
         gl.DeleteFramebuffers(1, &fbo_);
         fbo_ = 0;
     }
+    if (depth_buffer_) {
+        gl.DeleteRenderbuffers(1, &depth_buffer_);
+        depth_buffer_ = 0;
+    }
     if (!textures_.empty()) gl.DeleteTextures(GLsizei(textures_.size()), textures_.data());
     textures_.clear();
     width_ = height_ = 0;
@@ -34,6 +38,12 @@ void GlFloatFramebuffer::bind(int width, int height)
             gl.FramebufferTexture2D(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + i), GL_TEXTURE_2D,
                                     textures_[std::size_t(i)], 0);
             bufs.push_back(GLenum(GL_COLOR_ATTACHMENT0 + i));
+        }
+        if (depth_ == Depth::d24) {
+            gl.GenRenderbuffers(1, &depth_buffer_);
+            gl.BindRenderbuffer(GL_RENDERBUFFER, depth_buffer_);
+            gl.RenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+            gl.FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_buffer_);
         }
         gl.DrawBuffers(GLsizei(count_), bufs.data());
         check_framebuffer(ctx_, what_);

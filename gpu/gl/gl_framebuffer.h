@@ -1,6 +1,7 @@
 // The float framebuffer a GL driver renders a frame into (HAVS: colour, k-buffer targets, diagnostics; VICP: colour,
-// diagnostics): `count` RGBA32F colour attachments, every one drawn into, made for a size and made again when the
-// size changes, and read back exactly (glReadPixels of a float attachment returns the stored bits).
+// diagnostics; the ray caster's box passes: entry, exit, with a 24-bit depth buffer): `count` RGBA32F colour
+// attachments, every one drawn into, made for a size and made again when the size changes, and read back exactly
+// (glReadPixels of a float attachment returns the stored bits).
 // Twins: none (GL side only). Used by gpu/havs/gl_havs.cpp, gpu/vicp/gl_vicp.cpp and gpu/raycast/gl_raycast.cpp.
 #pragma once
 
@@ -15,7 +16,11 @@ namespace uvr::gpu {
 
 class GlFloatFramebuffer {
 public:
-    GlFloatFramebuffer(const GlContext& ctx, int count, std::string what) : ctx_(ctx), count_(count), what_(what) {}
+    enum class Depth { none, d24 };  // d24: a GL_DEPTH_COMPONENT24 renderbuffer (the seed 002 ray caster's)
+    GlFloatFramebuffer(const GlContext& ctx, int count, std::string what, Depth depth = Depth::none)
+        : ctx_(ctx), count_(count), what_(what), depth_(depth)
+    {
+    }
     ~GlFloatFramebuffer() { release(); }
     GlFloatFramebuffer(const GlFloatFramebuffer&) = delete;
     GlFloatFramebuffer& operator=(const GlFloatFramebuffer&) = delete;
@@ -32,7 +37,8 @@ private:
     const GlContext& ctx_;
     int count_;
     std::string what_;
-    GLuint fbo_ = 0;
+    Depth depth_;
+    GLuint fbo_ = 0, depth_buffer_ = 0;
     std::vector<GLuint> textures_;
     int width_ = 0, height_ = 0;
     void release();

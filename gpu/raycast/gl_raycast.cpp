@@ -1,6 +1,7 @@
 #include "gpu/raycast/gl_raycast.h"
 
 #include <chrono>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,7 @@ void set_raycast_frame_uniforms(const GlContext& ctx, const GlProgram& program, 
     d3("rc_box_hi", fc.box_hi);
     d3("rc_tex_scale", fc.tex_scale);
     d3("rc_tex_half", fc.tex_half);
+    f3("rc_tex_extent", fc.tex_extent);
     d1("rc_step", fc.step);
     i1("rc_max_samples", fc.max_samples);
     i1("rc_preintegrate", fc.preintegrate);
@@ -111,17 +113,22 @@ void upload_raycast_textures(const GlContext& ctx, const RaycastVolume& rv, GLui
 
 struct GlRaycastRenderer::Objects {
     const GlFunctions& gl;
-    std::unique_ptr<GlProgram> program;
-    GLuint vao = 0;
+    std::unique_ptr<GlProgram> program;     // the march: full-screen (exact) or the seed's third pass
+    std::unique_ptr<GlProgram> box_program; // the seed's first two passes
+    GLuint vao = 0, box_vbo = 0;
     GLuint textures[3] = {};
-    std::unique_ptr<GlFloatFramebuffer> framebuffer;  // colour, samples
+    std::unique_ptr<GlFloatFramebuffer> framebuffer;  // colour, samples (and depth for the seed's third pass)
+    std::unique_ptr<GlFloatFramebuffer> positions;    // the seed's entry and exit targets, with depth
 
     explicit Objects(const GlFunctions& g) : gl(g) {}
     ~Objects()
     {
         framebuffer.reset();
+        positions.reset();
         program.reset();
+        box_program.reset();
         if (vao) gl.DeleteVertexArrays(1, &vao);
+        if (box_vbo) gl.DeleteBuffers(1, &box_vbo);
         for (GLuint& t : textures)
             if (t) gl.DeleteTextures(1, &t);
     }
@@ -133,15 +140,37 @@ GlRaycastRenderer::GlRaycastRenderer(GlContext& ctx, const Volume& volume, const
 {
     ctx_.make_current();
     gl_ = std::make_unique<Objects>(ctx_.gl());
-    gl_->program = std::make_unique<GlProgram>(
-        ctx_, GlShaderSource{{"fullscreen.vert"}, {}, {}},
-        GlShaderSource{{"classification_table.frag", "preintegration_table.frag", "raycast_fragment.frag",
-                        "raycast.frag"},
-                       {},
-                       {}});
-    ctx_.gl().GenVertexArrays(1, &gl_->vao);
+    const bool seed = volume_.options().interpolation == InterpolationMode::gpu;
+    const GlShaderSource box_vertex{{"clip_position.vert", "raycast_box.vert"}, {}, {}};
+    GlShaderSource march{{"classification_table.frag", "preintegration_table.frag", "raycast_fragment.frag",
+                          "raycast.frag"},
+                         {},
+                         {}};
+    if (seed) {
+        march.defines.push_back({"RAYCAST_SEED_PASSES", "1"});
+        gl_->program = std::make_unique<GlProgram>(ctx_, box_vertex, march);
+        gl_->box_program = std::make_unique<GlProgram>(ctx_, box_vertex, GlShaderSource{{"raycast_box.frag"}, {}, {}});
+        gl_->positions = std::make_unique<GlFloatFramebuffer>(ctx_, 2, "the ray caster's entry and exit targets",
+                                                              GlFloatFramebuffer::Depth::d24);
+    } else {
+        gl_->program = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"fullscreen.vert"}, {}, {}}, march);
+    }
+    const GlFunctions& gl = ctx_.gl();
+    gl.GenVertexArrays(1, &gl_->vao);
+    if (seed) {
+        gl.GenBuffers(1, &gl_->box_vbo);
+        gl.BindVertexArray(gl_->vao);
+        gl.BindBuffer(GL_ARRAY_BUFFER, gl_->box_vbo);
+        gl.EnableVertexAttribArray(0);
+        gl.EnableVertexAttribArray(1);
+        gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(RaycastBoxVertex), nullptr);
+        gl.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(RaycastBoxVertex),
+                               reinterpret_cast<const void*>(offsetof(RaycastBoxVertex, tex)));
+        gl.BindVertexArray(0);
+    }
     upload_raycast_textures(ctx_, volume_, gl_->textures);
-    gl_->framebuffer = std::make_unique<GlFloatFramebuffer>(ctx_, 2, "the ray caster's framebuffer");
+    gl_->framebuffer = std::make_unique<GlFloatFramebuffer>(
+        ctx_, 2, "the ray caster's framebuffer", seed ? GlFloatFramebuffer::Depth::d24 : GlFloatFramebuffer::Depth::none);
     ctx_.check_error("setting up the ray caster on GL");
 }
 
@@ -151,6 +180,41 @@ GlRaycastRenderer::~GlRaycastRenderer()
     gl_.reset();
 }
 
+void GlRaycastRenderer::draw_box_passes(const RaycastBoxFrame& bf, int width, int height)
+{
+    const GlFunctions& gl = ctx_.gl();
+    gl.BindVertexArray(gl_->vao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, gl_->box_vbo);
+    gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(bf.vertices.size() * sizeof(RaycastBoxVertex)), bf.vertices.data(),
+                  GL_STREAM_DRAW);
+    gl_->positions->bind(width, height);
+    const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    gl.DrawBuffers(2, both);
+    const float zero[4] = {0, 0, 0, 0};
+    gl.ClearBufferfv(GL_COLOR, 0, zero);
+    gl.ClearBufferfv(GL_COLOR, 1, zero);
+    gl.UseProgram(gl_->box_program->id());
+    gl.UniformMatrix4fv(gl_->box_program->uniform("rc_box_mvp", true), 1, GL_FALSE, &bf.view.mvp[0][0]);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.Enable(GL_CULL_FACE);
+    // The seed's passes: front faces with GL_LESS over depth 1, back faces with GL_GREATER over depth 0; culling the
+    // other facing beside them (docs/raycast.md, "The seed's passes").
+    struct Pass {
+        GLenum target, cull, depth_func;
+        float clear_depth;
+    };
+    for (const Pass& pass : {Pass{GL_COLOR_ATTACHMENT0, GL_BACK, GL_LESS, 1.0f},
+                             Pass{GL_COLOR_ATTACHMENT1, GL_FRONT, GL_GREATER, 0.0f}}) {
+        gl.DrawBuffers(1, &pass.target);
+        gl.ClearBufferfv(GL_DEPTH, 0, &pass.clear_depth);
+        gl.DepthFunc(pass.depth_func);
+        gl.CullFace(pass.cull);
+        gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(bf.vertices.size()));
+    }
+    gl.DrawBuffers(2, both);
+    ctx_.check_error("the ray caster's box passes");
+}
+
 RaycastFrame GlRaycastRenderer::render(const Camera& cam, int width, int height)
 {
     ctx_.make_current();
@@ -158,25 +222,47 @@ RaycastFrame GlRaycastRenderer::render(const Camera& cam, int width, int height)
     RaycastFrame out;
     auto t0 = Clock::now();
     const RaycastFrameConstants fc = raycast_frame_constants(volume_, cam, width, height);
-    gl_->framebuffer->bind(width, height);
+    const bool seed = volume_.options().interpolation == InterpolationMode::gpu;
     gl.Disable(GL_BLEND);
     gl.Disable(GL_DEPTH_TEST);
     gl.Disable(GL_CULL_FACE);
+    RaycastBoxFrame bf;
+    if (seed) {
+        bf = raycast_box_frame(fc, cam, volume_.origin(), width, height);
+        count_raycast_box(bf, out.stats);
+        draw_box_passes(bf, width, height);
+    }
+    gl_->framebuffer->bind(width, height);
     const float zero[4] = {0, 0, 0, 0};
     gl.ClearBufferfv(GL_COLOR, 0, zero);
     gl.ClearBufferfv(GL_COLOR, 1, zero);
     gl.UseProgram(gl_->program->id());
     set_raycast_frame_uniforms(ctx_, *gl_->program, fc);
     gl.BindVertexArray(gl_->vao);
+    if (seed) {
+        // The seed's third pass: the box again, front faces (GL_LESS over depth 1), the march at each of their pixels.
+        const float one = 1.0f;
+        gl.ClearBufferfv(GL_DEPTH, 0, &one);
+        gl.DepthFunc(GL_LESS);
+        gl.CullFace(GL_BACK);
+        gl.UniformMatrix4fv(gl_->program->uniform("rc_box_mvp", true), 1, GL_FALSE, &bf.view.mvp[0][0]);
+        gl.ActiveTexture(GL_TEXTURE5);
+        gl.BindTexture(GL_TEXTURE_2D, gl_->positions->texture(0));
+        gl.ActiveTexture(GL_TEXTURE6);
+        gl.BindTexture(GL_TEXTURE_2D, gl_->positions->texture(1));
+        gl.ActiveTexture(GL_TEXTURE0);
+    }
     ctx_.check_error("preparing the ray caster's draw");
     const double setup_ms = ms_since(t0);
 
     t0 = Clock::now();
-    gl.DrawArrays(GL_TRIANGLES, 0, 3);
+    gl.DrawArrays(GL_TRIANGLES, 0, seed ? GLsizei(bf.vertices.size()) : 3);
     gl.Finish();
     ctx_.check_error("the ray caster's draw");
     const double march_ms = ms_since(t0);
     gl.BindVertexArray(0);
+    gl.Disable(GL_DEPTH_TEST);
+    gl.Disable(GL_CULL_FACE);
 
     t0 = Clock::now();
     const std::vector<glm::vec4> colour = gl_->framebuffer->read(0), diag = gl_->framebuffer->read(1);

@@ -1,10 +1,11 @@
-// The ray caster on GL (issue 7): the volume as a one-channel 3D texture, the classification (or pre-integrated)
-// table, one full-screen triangle whose fragment program is shaders/raycast_fragment.frag (+ raycast.frag), colour and
-// samples per pixel in a float framebuffer. The CPU stage (RaycastVolume) and the frame's constants are the
-// emulation's (gpu/raycast/raycast_setup.h), so both march the same texels with the same uniforms. docs/raycast.md.
-// Twins: emulated driver gpu/raycast/raycast.h; shaders/fullscreen.vert, classification_table.frag,
-// preintegration_table.frag, raycast_fragment.frag, raycast.frag; GL uniforms here (set_raycast_frame_uniforms);
-// harness gpu/raycast/gl_raycast_harness.h.
+// The ray caster on GL (issue 7, seed 002): the volume as a one-channel 3D texture, the classification (or
+// pre-integrated) table; the seed's three passes (--interpolation gpu: the box's front and back faces into RGBA32F
+// targets, then the box again with the march) or one full-screen triangle (exact); colour and samples per pixel in a
+// float framebuffer. The CPU stages (RaycastVolume, raycast_box_frame) and the frame's constants are the
+// emulation's, so both march the same texels with the same uniforms. docs/raycast.md.
+// Twins: emulated driver gpu/raycast/raycast.h; shaders/raycast_box.{vert,frag}, fullscreen.vert,
+// classification_table.frag, preintegration_table.frag, raycast_fragment.frag, raycast.frag; GL uniforms here
+// (set_raycast_frame_uniforms); harness gpu/raycast/gl_raycast_harness.h.
 #pragma once
 
 #include <memory>
@@ -33,6 +34,8 @@ public:
     const RaycastVolume& cpu_stage() const { return volume_; }
 
 private:
+    void draw_box_passes(const RaycastBoxFrame& bf, int width, int height);  // the seed's first two passes
+
     GlContext& ctx_;
     RaycastVolume volume_;
     struct Objects;

@@ -94,7 +94,8 @@ const GlProgram& GlRaycastHarness::program(int which)
 {
     auto& p = programs_[which];
     if (!p) {
-        const char* mode = which == 0 ? "HARNESS_RAY" : which == 1 ? "HARNESS_MARCH" : "HARNESS_LIGHT";
+        const char* const modes[] = {"HARNESS_RAY", "HARNESS_MARCH", "HARNESS_LIGHT", "HARNESS_RAY_SEED"};
+        const char* mode = modes[which];
         p = std::make_unique<GlProgram>(
             ctx_, GlShaderSource{{"fullscreen.vert"}, {}, {}},
             GlShaderSource{{"classification_table.frag", "preintegration_table.frag", "raycast_fragment.frag",
@@ -206,6 +207,39 @@ std::vector<glm::dvec2> GlRaycastHarness::run_light(const RaycastFrameConstants&
             std::vector<double> res(m * 2);
             pass.read_storage(results, res.data(), res.size() * sizeof(double));
             for (std::size_t i = 0; i < m; ++i) out[base + i] = {res[2 * i], res[2 * i + 1]};
+        });
+    return out;
+}
+
+std::vector<RaycastRay> GlRaycastHarness::run_ray_seed(const RaycastFrameConstants& fc,
+                                                       const std::vector<glm::vec4>& texels)
+{
+    ctx_.make_current();
+    const GlProgram& prog = program(3);
+    ctx_.gl().UseProgram(prog.id());
+    set_raycast_frame_uniforms(ctx_, prog, fc);
+    std::vector<RaycastRay> out(texels.size() / 2);
+    run_chunks(
+        ctx_, prog, vao_, out.size(), "the ray caster's seed ray harness pass",
+        [&](std::size_t base, std::size_t m, HarnessPass& pass) {
+            pass.storage(0, texels.data() + 2 * base, 2 * m * sizeof(glm::vec4));
+            return pass.storage(1, nullptr, m * sizeof(GlRay));
+        },
+        [&](std::size_t base, std::size_t m, HarnessPass& pass, GLuint results) {
+            std::vector<GlRay> res(m);
+            pass.read_storage(results, res.data(), m * sizeof(GlRay));
+            for (std::size_t i = 0; i < m; ++i) {
+                const GlRay& g = res[i];
+                RaycastRay& o = out[base + i];
+                o.samples = g.samples;
+                o.length = g.length;
+                o.entry = get(g.entry);
+                o.dir = get(g.dir);
+                o.tex0 = {g.tex0[0], g.tex0[1], g.tex0[2]};
+                o.dtex = {g.dtex[0], g.dtex[1], g.dtex[2]};
+                o.tex_exit = {g.tex_exit[0], g.tex_exit[1], g.tex_exit[2]};
+                o.last_length = g.last_length;
+            }
         });
     return out;
 }

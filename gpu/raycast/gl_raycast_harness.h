@@ -5,7 +5,8 @@
 //   - run_ray: raycast_ray_exact (frame constants and pixel -> the ray, every double before its rounding to float);
 //   - run_march: raycast_march (a ray -> colour and samples) over a RaycastVolume's real textures, both
 //     classifications, shaded or not, as the renderer binds them;
-//   - run_light: raycast_light_factors (a sample's place, its gradient -> the Blinn-Phong factors, in double).
+//   - run_light: raycast_light_factors (a sample's place, its gradient -> the Blinn-Phong factors, in double);
+//   - run_ray_seed: raycast_ray_seed (the box passes' entry and exit texels -> the ray).
 // Twins: shaders/raycast_harness.frag (its mains); emulated stage gpu/raycast/raycast_fragment.h; GL uniforms
 // gpu/raycast/gl_raycast.h. Tests only (library uvr_gl_harness).
 #pragma once
@@ -44,11 +45,14 @@ public:
 
     std::vector<glm::dvec2> run_light(const RaycastFrameConstants& fc, const std::vector<RaycastLightCase>& cases);
 
+    // texels[2 i] is case i's entry (front), texels[2 i + 1] its exit (back).
+    std::vector<RaycastRay> run_ray_seed(const RaycastFrameConstants& fc, const std::vector<glm::vec4>& texels);
+
 private:
     GlContext& ctx_;
     GLuint vao_ = 0;
     GLuint textures_[3] = {};
-    std::map<int, std::unique_ptr<GlProgram>> programs_;  // 0 ray, 1 march, 2 light
+    std::map<int, std::unique_ptr<GlProgram>> programs_;  // 0 ray, 1 march, 2 light, 3 seed ray
 
     const GlProgram& program(int which);
 };

@@ -36,15 +36,33 @@ RaycastRenderer::RaycastRenderer(const Volume& volume, const TransferFunction& t
 {
 }
 
+void count_raycast_box(const RaycastBoxFrame& bf, RaycastStats& st)
+{
+    st.box_triangles = bf.triangles();
+    st.near_sections = bf.near_sections;
+    st.clipped_faces = bf.clipped_faces;
+    st.gpu_clipped = bf.gpu_clipped;
+}
+
 RaycastFrame RaycastRenderer::render(const Camera& cam, int width, int height) const
 {
     RaycastFrame out;
     auto t0 = Clock::now();
     const RaycastFrameConstants fc = raycast_frame_constants(volume_, cam, width, height);
     const RaycastTextures tex = raycast_textures(volume_);
+    const bool seed = volume_.options().interpolation == InterpolationMode::gpu;
+    // The seed's first two passes: each pixel's entry and exit as the box's faces interpolate them.
+    RaycastBoxPass front, back;
+    if (seed) {
+        const RaycastBoxFrame bf = raycast_box_frame(fc, cam, volume_.origin(), width, height);
+        front = raycast_box_pass(bf, Facing::front);
+        back = raycast_box_pass(bf, Facing::back);
+        count_raycast_box(bf, out.stats);
+    }
     const double setup_ms = ms_since(t0);
 
-    // The full-screen pass: every pixel runs the fragment program once (GL rows, from the bottom).
+    // The march: on the pixels the box's front covers (the seed's third pass draws the box again), or on every pixel
+    // of one full-screen pass (--interpolation exact). GL rows, from the bottom.
     const std::size_t npix = std::size_t(width) * std::size_t(height);
     std::vector<glm::vec4> colour(npix, glm::vec4(0.0f));
     std::vector<uint32_t> samples(npix, 0);
@@ -53,13 +71,22 @@ RaycastFrame RaycastRenderer::render(const Camera& cam, int width, int height) c
         const FlushDenormals llvmpipe_mxcsr;  // as llvmpipe's shader threads (gpu/pipeline/denormals.h)
         for (int px = 0; px < width; ++px) {
             const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
-            const RaycastResult r = raycast_march(fc, raycast_ray(fc, px, py), tex);
+            if (seed && front.position[p].w == 0.0f) continue;
+            const RaycastRay ray =
+                seed ? raycast_ray_seed(fc, front.position[p], back.position[p]) : raycast_ray(fc, px, py);
+            const RaycastResult r = raycast_march(fc, ray, tex);
             colour[p] = r.colour;
             samples[p] = r.samples;
         }
     });
     const double march_ms = ms_since(t0);
     store_raycast_frame(colour, samples, width, height, out);
+    if (seed) {
+        out.stats.entries = front.covered;
+        out.stats.overlaps = front.overlaps + back.overlaps;
+        for (std::size_t p = 0; p < npix; ++p)
+            if (front.position[p].w != 0.0f && back.position[p].w == 0.0f) ++out.stats.unpaired;
+    }
     out.stats.table_ms = volume_.table_ms();
     out.stats.setup_ms = setup_ms;
     out.stats.march_ms = march_ms;

@@ -4,6 +4,19 @@
 
 namespace uvr::gpu {
 
+namespace {
+
+// n = ceil(L / step), written with a truncation (exact) and a comparison; at most max_samples.
+int sample_count(const RaycastFrameConstants& fc, double length)
+{
+    const double q = length / fc.step;
+    int n = q < double(fc.max_samples) ? int(q) : fc.max_samples;
+    if (double(n) < q && n < fc.max_samples) n += 1;
+    return n;
+}
+
+}  // namespace
+
 RaycastRayExact raycast_ray_exact(const RaycastFrameConstants& fc, int pix_x, int pix_y)
 {
     RaycastRayExact ray;
@@ -31,10 +44,7 @@ RaycastRayExact raycast_ray_exact(const RaycastFrameConstants& fc, int pix_x, in
     if (!(t_out > t_in)) return ray;
     const double scale = std::sqrt((d[0] * d[0] + d[1] * d[1]) + d[2] * d[2]);
     const double length = (t_out - t_in) * scale;
-    // n = ceil(L / step), written with a truncation (exact) and a comparison; at most max_samples.
-    const double q = length / fc.step;
-    int n = q < double(fc.max_samples) ? int(q) : fc.max_samples;
-    if (double(n) < q && n < fc.max_samples) n += 1;
+    const int n = sample_count(fc, length);
     if (n == 0) return ray;
     ray.samples = n;
     ray.length = length;
@@ -64,6 +74,40 @@ RaycastRay rounded_ray(const RaycastRayExact& e)
     ray.length = e.length;
     ray.entry = e.entry;
     ray.dir = e.dir;
+    return ray;
+}
+
+RaycastRay raycast_ray_seed(const RaycastFrameConstants& fc, const glm::vec4& front, const glm::vec4& back)
+{
+    RaycastRay ray;
+    if (front.w == 0.0f || back.w == 0.0f) return ray;
+    // The seed's direction, back - front, in texture coordinates; in world units through the box's extent per texture
+    // unit, so that the step is world units as --step says (docs/raycast.md, "The seed's passes").
+    const glm::vec3 d(back.x - front.x, back.y - front.y, back.z - front.z);
+    const glm::vec3 w(d.x * fc.tex_extent.x, d.y * fc.tex_extent.y, d.z * fc.tex_extent.z);
+    // DP3, RSQ, MUL, as HAVS's seed measures a distance (gpu/havs/havs_fragment.cpp havs_seed_entry): llvmpipe's dot
+    // sums from the last component, inversesqrt is 1 / sqrt, two roundings.
+    const float zz = w.z * w.z, yy = w.y * w.y, xx = w.x * w.x;
+    const float t = (zz + yy) + xx;
+    if (!(t > 0.0f)) return ray;
+    const float rsq = 1.0f / std::sqrt(t);
+    const float length = t * rsq;
+    const int n = sample_count(fc, double(length));
+    if (n == 0) return ray;
+    ray.samples = n;
+    ray.length = double(length);
+    // normalize(d) (in world units) * step, back in texture coordinates: d * (rsq * step).
+    const float scale = rsq * fc.step_f;
+    ray.dtex = glm::vec3(d.x * scale, d.y * scale, d.z * scale);
+    ray.tex0 = glm::vec3(front);
+    ray.tex_exit = glm::vec3(back);
+    ray.last_length = float(double(length) - double(n - 1) * fc.step);
+    // Shading's geometry, in double from the same floats: the entry in the box's centred frame and the unit direction.
+    const double inv_length = 1.0 / double(length);
+    for (int i = 0; i < 3; ++i) {
+        ray.entry[i] = (double(front[i]) - fc.tex_half[i]) / fc.tex_scale[i] + fc.box_lo[i];
+        ray.dir[i] = double(w[i]) * inv_length;
+    }
     return ray;
 }
 

@@ -26,6 +26,7 @@ struct RaycastFrameConstants : PixelRays {
     glm::dvec3 box_lo{0.0}, box_hi{0.0};  // the samples' box, relative to its centre
     glm::dvec3 tex_scale{0.0};            // 1 / (dims * spacing): world units to texture coordinates
     glm::dvec3 tex_half{0.0};             // 0.5 / dims: texel 0's centre
+    glm::vec3 tex_extent{0.0f};           // float(dims * spacing): world units per texture unit (the seed's passes)
     double step = 1.0;                    // world units
     int max_samples = 0;                  // no ray takes more (setup: the box's diagonal over the step, plus 2)
     int preintegrate = 0;
@@ -69,6 +70,13 @@ inline RaycastRay raycast_ray(const RaycastFrameConstants& fc, int px, int py)
 {
     return rounded_ray(raycast_ray_exact(fc, px, py));
 }
+
+// The seed's ray (--interpolation gpu) from the pixel's texels of the two box passes (gpu/raycast/raycast_box.h): the
+// entry `front` and the exit `back` as llvmpipe interpolated them (alpha 1 where a fragment wrote them). In float:
+// the difference in world units, its length by DP3, RSQ, MUL, the step as the difference times step / length; the
+// sample count and the last segment in double from that length. No samples where either texel is unwritten or the
+// length is 0. docs/raycast.md, "The seed's passes".
+RaycastRay raycast_ray_seed(const RaycastFrameConstants& fc, const glm::vec4& front, const glm::vec4& back);
 
 // The textures the march reads, as the emulation holds them.
 struct RaycastTextures {

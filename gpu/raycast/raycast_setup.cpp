@@ -142,6 +142,7 @@ RaycastFrameConstants raycast_frame_constants(const RaycastVolume& rv, const Cam
     const glm::dvec3 dims(double(v.dims[0]), double(v.dims[1]), double(v.dims[2]));
     fc.tex_scale = 1.0 / (dims * v.spacing);
     fc.tex_half = 0.5 / dims;
+    fc.tex_extent = glm::vec3(dims * v.spacing);
     const RaycastOptions& o = rv.options();
     fc.step = o.step;
     fc.step_f = float(o.step);

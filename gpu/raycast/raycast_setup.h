@@ -14,6 +14,7 @@
 
 #include "gpu/raycast/classification_table.h"
 #include "gpu/pipeline/segment.h"
+#include "gpu/pipeline/interpolation.h"
 #include "gpu/pipeline/preintegration_table.h"
 #include "gpu/raycast/raycast_fragment.h"
 #include "reference/camera.h"
@@ -40,6 +41,9 @@ struct RaycastOptions {
     SegmentMode segment = SegmentMode::table;  // --preintegrate: the table, or the exact integral (emulation only)
     int table_size = 128;            // the pre-integrated table's texels per axis
     TexelFormat table_format = TexelFormat::f32;
+    // gpu: the seed's passes, entry and exit from the box's faces as the rasterizer interpolates them (SPEC §7);
+    // exact: the pixel's ray against the box in double (docs/raycast.md, "The seed's passes").
+    InterpolationMode interpolation = InterpolationMode::gpu;
 };
 
 // The step when none is given: half the smallest spacing (SPEC §3).
