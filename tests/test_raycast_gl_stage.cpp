@@ -5,7 +5,8 @@
 //     and on a face, flat boxes, steps that hit the sample cap; every double compared before its rounding to float;
 //   - the march (float): rays of real frames and made-up ones (entries outside the texture, last segments of no
 //     length), three texel formats, both classifications, shading, thresholds at 1 and below;
-//   - the lighting (double): zero and denormal gradients, a light at the sample, a half vector of zero length.
+//   - the lighting (double): zero and denormal gradients, a light at the sample, a half vector of zero length;
+//   - the seed's ray (float, then double): entry and exit texels equal, along one axis, ulps apart, unwritten.
 // The emulation runs with denormals flushed, as llvmpipe runs shaders and as the emulated driver runs.
 #include <cmath>
 #include <memory>
@@ -312,7 +313,119 @@ void compare_light(const RaycastFrameConstants& fc, const std::vector<RaycastLig
     }
 }
 
+// ---- the seed's ray (raycast_ray_seed) ----
+
+// A frame's constants for raycast_ray_seed: the box's extent per texture unit, the step, the sample cap, and the box
+// (for shading's entry).
+RaycastFrameConstants random_seed_frame(Rng& r)
+{
+    RaycastFrameConstants fc;
+    const glm::dvec3 dims(1 + r.pick(300), 1 + r.pick(300), 1 + r.pick(300));
+    const double scales[4] = {1e-3, 0.37, 1.0, 250.0};
+    const double unit = scales[r.pick(4)];
+    const glm::dvec3 spacing = unit * glm::dvec3(r.uni(0.5, 2.0), r.uni(0.5, 2.0), r.uni(0.5, 2.0));
+    fc.tex_scale = 1.0 / (dims * spacing);
+    fc.tex_half = 0.5 / dims;
+    fc.tex_extent = glm::vec3(dims * spacing);
+    fc.box_hi = 0.5 * (dims - 1.0) * spacing;
+    fc.box_lo = -fc.box_hi;
+    const double smallest = std::min(spacing.x, std::min(spacing.y, spacing.z));
+    switch (r.pick(4)) {
+    case 0: fc.step = 0.5 * smallest; break;
+    case 1: fc.step = smallest * r.uni(0.05, 3.0); break;
+    case 2: fc.step = glm::length(dims * spacing) * 2.0; break;  // one sample a ray
+    default: fc.step = smallest * 1e-4;                         // the cap decides
+    }
+    fc.step_f = float(fc.step);
+    fc.max_samples = int(std::min(1e6, glm::length(dims * spacing) / fc.step)) + 2;
+    if (r.pick(4) == 0) fc.max_samples = 1 + r.pick(8);
+    return fc;
+}
+
+struct SeedRayTally {
+    uint64_t rays = 0, unwritten = 0, zero_length = 0, capped = 0, one_axis = 0;
+};
+
+// `count` entry and exit pairs as the box passes could write them: texture coordinates in and around [0, 1], an
+// exit equal to the entry, differing in one component only or by a few ulps, and unwritten texels (alpha 0).
+std::vector<glm::vec4> seed_texels(Rng& r, std::size_t count)
+{
+    std::vector<glm::vec4> t(2 * count);
+    for (std::size_t i = 0; i < count; ++i) {
+        glm::vec4 f(r.unif(-0.01f, 1.01f), r.unif(-0.01f, 1.01f), r.unif(-0.01f, 1.01f), 1.0f);
+        glm::vec4 b(r.unif(-0.01f, 1.01f), r.unif(-0.01f, 1.01f), r.unif(-0.01f, 1.01f), 1.0f);
+        switch (r.pick(12)) {
+        case 0: b = f; break;  // no length
+        case 1: {              // along one axis
+            b = f;
+            const int a = r.pick(3);
+            b[a] = r.unif(0.0f, 1.0f);
+            break;
+        }
+        case 2:  // a few ulps apart: a length at float rounding (flushed, or one sample)
+            b = f;
+            for (int a = 0; a < 3; ++a) b[a] = std::nextafter(b[a], 2.0f);
+            break;
+        case 3: (r.pick(2) ? f : b).w = 0.0f; break;  // no entry or no exit written
+        default: break;
+        }
+        t[2 * i] = f;
+        t[2 * i + 1] = b;
+    }
+    return t;
+}
+
+void compare_seed_rays(const RaycastFrameConstants& fc, const std::vector<glm::vec4>& texels,
+                       const std::vector<RaycastRay>& g, std::size_t base, Mismatches& mm, SeedRayTally& t)
+{
+    const FlushDenormals as_the_renderer_runs;
+    for (std::size_t i = 0; i < g.size(); ++i) {
+        const glm::vec4& f = texels[2 * i];
+        const glm::vec4& b = texels[2 * i + 1];
+        const RaycastRay e = raycast_ray_seed(fc, f, b);
+        ++t.rays;
+        t.unwritten += f.w == 0.0f || b.w == 0.0f ? 1 : 0;
+        t.zero_length += f.w != 0.0f && b.w != 0.0f && e.samples == 0 ? 1 : 0;
+        t.capped += e.samples == fc.max_samples ? 1 : 0;
+        t.one_axis += e.samples > 0 && int(f.x == b.x) + int(f.y == b.y) + int(f.z == b.z) == 2 ? 1 : 0;
+        const std::size_t c = base + i;
+        mm.check(double(e.samples), double(g[i].samples), c, "samples");
+        mm.check(double(e.last_length), double(g[i].last_length), c, "last_length");
+        mm.check(e.length, g[i].length, c, "length");
+        for (int k = 0; k < 3; ++k) {
+            mm.check(double(e.tex0[k]), double(g[i].tex0[k]), c, "tex0");
+            mm.check(double(e.dtex[k]), double(g[i].dtex[k]), c, "dtex");
+            mm.check(double(e.tex_exit[k]), double(g[i].tex_exit[k]), c, "tex_exit");
+            mm.check(e.entry[k], g[i].entry[k], c, "entry");
+            mm.check(e.dir[k], g[i].dir[k], c, "dir");
+        }
+    }
+}
+
 }  // namespace
+
+TEST_CASE("the seed's ray in GLSL computes the emulation's bits from 1,048,576 entry and exit pairs")
+{
+    GlRaycastHarness& h = *gl(GlPlatform::osmesa).harness;
+    Rng r(110);
+    Mismatches mm;
+    SeedRayTally t;
+    constexpr int kFrames = 64;
+    constexpr std::size_t kPairs = 16384;
+    for (int f = 0; f < kFrames; ++f) {
+        const RaycastFrameConstants fc = random_seed_frame(r);
+        const std::vector<glm::vec4> texels = seed_texels(r, kPairs);
+        compare_seed_rays(fc, texels, h.run_ray_seed(fc, texels), std::size_t(f) * kPairs, mm, t);
+    }
+    INFO(t.rays << " pairs: " << t.unwritten << " with a texel unwritten, " << t.zero_length
+                << " of no length, " << t.capped << " capped, " << t.one_axis << " along one axis");
+    CHECK(t.rays == 1048576u);
+    CHECK(t.unwritten > 50000);
+    CHECK(t.zero_length > 50000);
+    CHECK(t.capped > 50000);
+    CHECK(t.one_axis > 50000);
+    mm.report("raycast_ray_seed");
+}
 
 TEST_CASE("the ray caster's ray in GLSL computes the emulation's doubles at 1,048,576 pixels of random frames")
 {
@@ -431,5 +544,9 @@ TEST_CASE("EGL: the ray caster's stages compute the same bits through the surfac
     const RaycastFrameConstants fc = random_light_frame(r);
     const std::vector<RaycastLightCase> cs = light_cases(r, fc, 50000);
     compare_light(fc, cs, e.harness->run_light(fc, cs), mm, lt);
-    mm.report("EGL: raycast_ray_exact, raycast_march, raycast_light_factors");
+    SeedRayTally st;
+    const RaycastFrameConstants sfc = random_seed_frame(r);
+    const std::vector<glm::vec4> texels = seed_texels(r, 50000);
+    compare_seed_rays(sfc, texels, e.harness->run_ray_seed(sfc, texels), 0, mm, st);
+    mm.report("EGL: raycast_ray_exact, raycast_march, raycast_light_factors, raycast_ray_seed");
 }
