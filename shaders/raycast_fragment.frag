@@ -237,7 +237,12 @@ vec4 raycast_lit(vec4 c, vec2 f)
 
 vec4 raycast_shaded(vec4 c, RaycastRay ray, vec3 p, double t)
 {
+    // Compiled only into a program that shades (RAYCAST_SHADE; the stage harness always): llvmpipe runs both sides of
+    // a branch under an execution mask, even a branch on a uniform, so the gradient's six fetches would cost every
+    // unshaded sample their time (docs/raycast.md, "Speed").
+#ifdef RAYCAST_SHADE
     if (rc_shade != 0) c = raycast_lit(c, raycast_light(ray, t, raycast_gradient(p)));
+#endif
     return c;
 }
 

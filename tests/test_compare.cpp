@@ -104,6 +104,28 @@ TEST_CASE("uvr compare --interpolation gpu,exact shows HAVS in both modes side b
     unsetenv("UVR_CACHE_DIR");
 }
 
+TEST_CASE("uvr compare --interpolation gpu,exact shows the ray caster in both modes side by side")
+{
+    TempDir tmp("compare-raycast-modes");
+    setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
+    const std::string dir = tmp.file("report");
+    const auto r = run_uvr("compare builtin:torus-volume --algos raycast --interpolation gpu,exact --size 48x40 "
+                           "--report '" + dir + "'");
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const auto m = nlohmann::json::parse(uvr::test::file_contents(dir + "/metrics.json"));
+    REQUIRE(m["results"].size() == 3);  // the reference, the seed's passes, the exact ray
+    CHECK(m["results"][1]["label"] == "raycast-emu-post");
+    CHECK(m["results"][1]["stats"]["interpolation"] == "gpu");
+    CHECK(m["results"][1]["stats"]["box"]["triangles"].get<int>() >= 12);
+    CHECK(m["results"][1]["stats"]["box"]["overlaps"] == 0);
+    CHECK(m["results"][2]["label"] == "raycast-emu-post-exact-interpolation");
+    CHECK(m["results"][2]["stats"]["interpolation"] == "exact");
+    CHECK_FALSE(m["results"][2]["stats"].contains("box"));
+    CHECK(read_npy(dir + "/raycast-emu-post.npy").rgba != read_npy(dir + "/raycast-emu-post-exact-interpolation.npy").rgba);
+    unsetenv("UVR_CACHE_DIR");
+}
+
 TEST_CASE("uvr sweep's CSV holds the numbers its images give, the table-size sweep included")
 {
     TempDir tmp("sweep-csv");

@@ -146,6 +146,7 @@ GlRaycastRenderer::GlRaycastRenderer(GlContext& ctx, const Volume& volume, const
                           "raycast.frag"},
                          {},
                          {}};
+    if (volume_.options().light) march.defines.push_back({"RAYCAST_SHADE", "1"});
     if (seed) {
         march.defines.push_back({"RAYCAST_SEED_PASSES", "1"});
         gl_->program = std::make_unique<GlProgram>(ctx_, box_vertex, march);

@@ -100,7 +100,7 @@ const GlProgram& GlRaycastHarness::program(int which)
             ctx_, GlShaderSource{{"fullscreen.vert"}, {}, {}},
             GlShaderSource{{"classification_table.frag", "preintegration_table.frag", "raycast_fragment.frag",
                             "raycast_harness.frag"},
-                           {{mode, "1"}},
+                           {{mode, "1"}, {"RAYCAST_SHADE", "1"}},  // shading decided by the uniform rc_shade
                            {}});
     }
     return *p;
