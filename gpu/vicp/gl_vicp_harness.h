@@ -1,13 +1,12 @@
 // Runs VICP's GL shader stages alone on chosen inputs, for bit-for-bit comparison with their emulations (SPEC §5,
-// stage level), as gpu/havs/gl_havs_harness.h does for HAVS:
-//   - the vertex program's constants (shaders/vicp_vertex.vert through shaders/vicp_harness.vert): one case per
-//     vertex of a point draw with the rasterizer discarding, written to a storage buffer;
-//   - the fragment program's two parts (shaders/vicp_fragment.frag through shaders/vicp_harness.frag), one case per
-//     pixel of a full-screen pass: vicp_fragment_values (tetrahedron constants and pixel -> the segment, double) and
-//     vicp_composite (segment, framebuffer colour, diagnostics -> colour, diagnostics, whether it was written).
-// Inputs and outputs travel in storage buffers whose std430 layouts are the Gl* structs below (read back exactly).
-// Twins: shaders/vicp_harness.vert and .frag (their mains); emulated stages gpu/vicp/vicp_vertex.h and
-// gpu/vicp/vicp_fragment.h; GL uniforms gpu/vicp/gl_vicp_fragment.h. Tests only (library uvr_gl_harness).
+// stage level), as gpu/havs/gl_havs_harness.h does for HAVS: the vertex program's constants (a point draw with the
+// rasterizer discarding, written to a storage buffer); the fragment program's two parts, vicp_fragment_values and
+// vicp_composite (one case per pixel of a full-screen pass); the seed's vertex program and its fragment program's
+// exit (run_seed_vertex, run_seed_exit: --interpolation gpu). Inputs and outputs travel in storage buffers whose
+// std430 layouts are the Gl* structs below (read back exactly).
+// Twins: shaders/vicp_harness.vert and .frag (their mains); emulated stages gpu/vicp/vicp_vertex.h,
+// gpu/vicp/vicp_fragment.h, gpu/vicp/vicp_seed_vertex.h, gpu/vicp/vicp_seed_fragment.h; GL uniforms
+// gpu/vicp/gl_vicp_fragment.h. Tests only (library uvr_gl_harness).
 #pragma once
 
 #include <cstddef>
@@ -22,6 +21,7 @@
 #include "gpu/gl/gl_context.h"
 #include "gpu/pipeline/preintegration_table.h"
 #include "gpu/vicp/vicp_fragment.h"
+#include "gpu/vicp/vicp_seed_vertex.h"
 
 namespace uvr::gpu {
 
@@ -65,6 +65,9 @@ public:
 
     std::vector<VicpTet> run_vertex(const std::vector<VicpVertexCase>& cases);
 
+    std::vector<VicpSeedVaryings> run_seed_vertex(const VicpSeedView& view, const std::vector<VicpSeedVertex>& cases);
+    std::vector<VicpSeedExit> run_seed_exit(const std::vector<VicpSeedVaryings>& cases);
+
     std::vector<VicpSegment> run_values(const VicpFrameConstants& fc, const std::vector<VicpTet>& tets,
                                         const std::vector<glm::ivec2>& pixels);
 
@@ -78,7 +81,8 @@ private:
     GlContext& ctx_;
     GLuint vao_ = 0;
     GLuint table_texture_ = 0;
-    std::map<int, std::unique_ptr<GlProgram>> programs_;  // 0 vertex, 1 values, 2 composite, 3 composite + table
+    std::map<int, std::unique_ptr<GlProgram>> programs_;  // 0 vertex, 1 values, 2 composite, 3 composite + table,
+                                                          // 4 seed vertex, 5 seed exit
 
     const GlProgram& program(int which);
 };

@@ -1,0 +1,32 @@
+// VICP-FragmentProg as seed 003 gives it (--interpolation gpu, issue 25): from the varyings the rasterizer
+// interpolated (the distances along the view ray to the three faces opposite the vertices of the projected face, the
+// scalars there, and the entry scalar), the exit is the smallest positive distance, and its scalar the exit scalar.
+// float32 throughout. Input: VicpSeedVaryings at a pixel. Output: VicpSeedExit (entry and exit scalars, the length).
+// Twins: shaders/vicp_seed_fragment.frag; harness gpu/vicp/gl_vicp_harness.h (run_seed_exit).
+// Derivation: docs/vicp.md, "The seed's pipeline".
+#pragma once
+
+#include <glm/vec3.hpp>
+
+namespace uvr::gpu {
+
+// The fragment program's inputs (all `smooth`): distance[i] and scalar[i] to and at the face opposite the projected
+// face's vertex i; s, the scalar on the projected face.
+struct VicpSeedVaryings {
+    glm::vec3 distance{0.0f};
+    glm::vec3 scalar{0.0f};
+    float s = 0.0f;
+};
+
+// The segment the fragment integrates: `face` is the chosen entry (0..2) or -1 when no distance is positive (the
+// fragment then contributes nothing: length 0).
+struct VicpSeedExit {
+    int face = -1;
+    float s_front = 0.0f, s_back = 0.0f;  // clamped to [0, 1]
+    float length = 0.0f;
+};
+
+// The smallest distance greater than 0, the first such index on ties; a NaN distance is never chosen.
+VicpSeedExit vicp_seed_exit(const VicpSeedVaryings& v);
+
+}  // namespace uvr::gpu

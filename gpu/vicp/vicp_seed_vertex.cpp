@@ -1,0 +1,52 @@
+#include "gpu/vicp/vicp_seed_vertex.h"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace uvr::gpu {
+
+namespace {
+// a . b as the GLSL twin writes it: ((a.z b.z + a.y b.y) + a.x b.x), each product and sum rounded (llvmpipe lowers
+// dot() from the last component, docs/havs-seed-research.md; the twin spells the order out).
+float dot3(const glm::vec3& a, const glm::vec3& b)
+{
+    const float zz = a.z * b.z, yy = a.y * b.y, xx = a.x * b.x;
+    const float zy = zz + yy;
+    return zy + xx;
+}
+}  // namespace
+
+VicpSeedVaryings vicp_seed_vertex_program(const VicpSeedView& view, const VicpSeedVertex& in)
+{
+    // The view ray's direction at the vertex: v / |v| by DP3, RSQ (1 / sqrt: two roundings), MUL, or the view's.
+    glm::vec3 r = view.direction;
+    if (view.orthographic == 0) {
+        const float vv = dot3(in.position, in.position);
+        const float rsq = 1.0f / std::sqrt(vv);
+        r = glm::vec3(in.position.x * rsq, in.position.y * rsq, in.position.z * rsq);
+    }
+    // IntersectBackFace: position + t r on the plane n . (x - position) = 1, so t = 1 / (n . r) (an IEEE division:
+    // llvmpipe sets no lower_fdiv); the scalar there s + t (g . r).
+    const float nr = dot3(in.plane, r);
+    const float t = 1.0f / nr;
+    const float gr = dot3(in.gradient, r);
+    const float tg = t * gr;
+    const float s_exit = in.s + tg;
+    VicpSeedVaryings out;
+    out.scalar = glm::vec3(in.s);
+    out.s = in.s;
+    // The entry of the vertex's index; float(0), float(1), float(2) compared exactly.
+    const int i = in.index == 0.0f ? 0 : in.index == 1.0f ? 1 : 2;
+    out.distance[i] = t;
+    out.scalar[i] = s_exit;
+    return out;
+}
+
+glm::dvec3 vicp_seed_plane(const glm::dvec3& v, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
+{
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    return n / glm::dot(n, a - v);
+}
+
+}  // namespace uvr::gpu

@@ -1,0 +1,41 @@
+// VICP-ProjectTet's per-vertex record and VICP-VertexProg as seed 003 gives them (--interpolation gpu, issue 25).
+// ProjectTet sends each face's three vertices with 11 floats each (VicpSeedVertex): the position, the scalar, the
+// scalar's gradient, the plane of the face opposite the vertex in Weiler, Kraus and Ertl's three components (n with
+// n . (x - v) = 1 on that plane), and the vertex's index in its face. The vertex program intersects the view ray
+// through the vertex with that plane (IntersectBackFace: t = 1 / (n . r), the scalar s + t (g . r)) and puts the
+// distance and the scalar into the entry of its index; the other two entries are 0 and the vertex's own scalar.
+// float32, unfused. Input: VicpSeedVertex, the view (perspective: r = v / |v|; orthographic: the view direction).
+// Output: VicpSeedVaryings (gpu/vicp/vicp_seed_fragment.h), which the rasterizer interpolates `smooth`.
+// Twins: shaders/vicp_seed_vertex.vert; harness gpu/vicp/gl_vicp_harness.h (run_seed_vertex).
+// Derivation: docs/vicp.md, "The seed's pipeline".
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include "gpu/vicp/vicp_seed_fragment.h"
+
+namespace uvr::gpu {
+
+struct VicpSeedVertex {
+    glm::vec3 position{0.0f};  // relative to the eye (the vertex buffer's convention, docs/rasterizer.md)
+    float s = 0.0f;            // normalized scalar
+    glm::vec3 gradient{0.0f};  // of the normalized scalar, per world unit
+    glm::vec3 plane{0.0f};     // n: n . (x - position) = 1 on the face opposite the vertex
+    float index = 0.0f;        // 0, 1 or 2: the vertex's place in the face, the varyings' entry it fills
+};
+static_assert(sizeof(VicpSeedVertex) == 11 * sizeof(float), "ProjectTet sends 11 floats a vertex (seed 003)");
+
+// The view the vertex program needs: perspective rays from the eye (the origin of the positions), or orthographic
+// rays along `direction` (unit, world axes).
+struct VicpSeedView {
+    int orthographic = 0;
+    glm::vec3 direction{0.0f, 0.0f, -1.0f};
+};
+
+VicpSeedVaryings vicp_seed_vertex_program(const VicpSeedView& view, const VicpSeedVertex& in);
+
+// The plane of the face opposite vertex `v` of the tetrahedron (v, a, b, c) in the record's three components, in
+// double: N = (b - a) x (c - a), n = N / (N . (a - v)). The tetrahedron must not be flat.
+glm::dvec3 vicp_seed_plane(const glm::dvec3& v, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
+
+}  // namespace uvr::gpu
