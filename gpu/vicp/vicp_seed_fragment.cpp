@@ -22,4 +22,31 @@ VicpSeedExit vicp_seed_exit(const VicpSeedVaryings& v)
     return e;
 }
 
+VicpSeedPlanes vicp_seed_planes(const SetupVertex sv[3], const VicpSeedVaryings v[3], const TriangleSetup& ts)
+{
+    VicpSeedPlanes p;
+    p.setup = setup_attributes(sv, ts);
+    for (int c = 0; c < 3; ++c) {
+        const float d[3] = {v[0].distance[c], v[1].distance[c], v[2].distance[c]};
+        const float x[3] = {v[0].scalar[c], v[1].scalar[c], v[2].scalar[c]};
+        p.distance[c] = attribute_plane(p.setup, sv, d, Qualifier::smooth);
+        p.scalar[c] = attribute_plane(p.setup, sv, x, Qualifier::smooth);
+    }
+    const float s[3] = {v[0].s, v[1].s, v[2].s};
+    p.s = attribute_plane(p.setup, sv, s, Qualifier::smooth);
+    return p;
+}
+
+VicpSeedVaryings vicp_seed_varyings_at(const VicpSeedPlanes& p, int px, int py, ViewportArithmetic arith)
+{
+    const float factor = perspective_factor(p.setup, px, py, arith);
+    VicpSeedVaryings v;
+    for (int c = 0; c < 3; ++c) {
+        v.distance[c] = interpolate(p.distance[c], Qualifier::smooth, px, py, factor, arith);
+        v.scalar[c] = interpolate(p.scalar[c], Qualifier::smooth, px, py, factor, arith);
+    }
+    v.s = interpolate(p.s, Qualifier::smooth, px, py, factor, arith);
+    return v;
+}
+
 }  // namespace uvr::gpu

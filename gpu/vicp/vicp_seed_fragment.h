@@ -8,6 +8,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "gpu/pipeline/interpolation.h"
+
 namespace uvr::gpu {
 
 // The fragment program's inputs (all `smooth`): distance[i] and scalar[i] to and at the face opposite the projected
@@ -28,5 +30,15 @@ struct VicpSeedExit {
 
 // The smallest distance greater than 0, the first such index on ties; a NaN distance is never chosen.
 VicpSeedExit vicp_seed_exit(const VicpSeedVaryings& v);
+
+// One front face's varyings as planes of the interpolation stage (gpu/pipeline/interpolation.h), every one `smooth`:
+// `sv` and `v` are its three vertices' setup inputs and vertex-program outputs in drawing order, `ts` its rasterizer
+// setup. vicp_seed_varyings_at evaluates them at setup-space pixel (px, py), as llvmpipe hands them to the program.
+struct VicpSeedPlanes {
+    AttributeSetup setup;
+    AttributePlane distance[3], scalar[3], s;
+};
+VicpSeedPlanes vicp_seed_planes(const SetupVertex sv[3], const VicpSeedVaryings v[3], const TriangleSetup& ts);
+VicpSeedVaryings vicp_seed_varyings_at(const VicpSeedPlanes& planes, int px, int py, ViewportArithmetic arith);
 
 }  // namespace uvr::gpu
