@@ -7,6 +7,8 @@
 // wide-angle close-up of one tetrahedron errs by a visible fraction of its size, an orthographic view within 1e-5.
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -151,6 +153,15 @@ Outcome render_one_tet(const Camera& cam, const glm::dvec3 p[4])
     return out;
 }
 
+std::string describe(const Outcome& o)
+{
+    std::ostringstream s;
+    s << o.fragments << " fragments, " << o.face_differs << " with another exit face than the model; emulated - model "
+      << o.emu_vs_model << ", model - exact " << o.model_vs_exact << ", emulated - exact " << o.emu_vs_exact
+      << " (of the cell's size; mean " << o.emu_vs_exact_sum / double(o.fragments) << ")";
+    return s.str();
+}
+
 // A regular-ish tetrahedron of edge about 1 around the origin, positively oriented.
 void tetrahedron(glm::dvec3 p[4])
 {
@@ -176,10 +187,7 @@ TEST_CASE("VICP's interpolated distances err under a wide-angle close-up as the 
         cam.up = {0.0, 1.0, 0.0};
         cam.fovy_deg = 120.0;
         const Outcome o = render_one_tet(cam, p);
-        INFO(o.fragments << " fragments, " << o.face_differs << " with another exit face than the model; emulated - model "
-                         << o.emu_vs_model << ", model - exact " << o.model_vs_exact << ", emulated - exact "
-                         << o.emu_vs_exact << " (of the cell's size; mean " << o.emu_vs_exact_sum / double(o.fragments)
-                         << ")");
+        INFO(describe(o));
         REQUIRE(o.fragments > 1000);
         CHECK(o.face_differs < o.fragments / 100);  // ties at the edges between exit faces only
         CHECK(o.emu_vs_model < kEmulatedVsModel);
@@ -195,10 +203,7 @@ TEST_CASE("VICP's interpolated distances err under a wide-angle close-up as the 
         cam.orthographic = true;
         cam.ortho_height = 2.0;
         const Outcome o = render_one_tet(cam, p);
-        INFO(o.fragments << " fragments, " << o.face_differs << " with another exit face than the model; emulated - model "
-                         << o.emu_vs_model << ", model - exact " << o.model_vs_exact << ", emulated - exact "
-                         << o.emu_vs_exact << " (of the cell's size; mean " << o.emu_vs_exact_sum / double(o.fragments)
-                         << ")");
+        INFO(describe(o));
         REQUIRE(o.fragments > 1000);
         CHECK(o.face_differs < o.fragments / 100);
         CHECK(o.emu_vs_model < kEmulatedVsModel);
