@@ -7,7 +7,11 @@
 
 #include "gpu/pipeline/exact_coverage.h"
 #include "gpu/pipeline/rasterize.h"
+#include "gpu/pipeline/clip_position.h"
+#include "gpu/pipeline/denormals.h"
 #include "gpu/pipeline/tiles.h"
+#include "gpu/vicp/vicp_seed_fragment.h"
+#include "reference/error.h"
 
 namespace uvr::gpu {
 
@@ -88,6 +92,51 @@ void VicpRenderer::composite_exact_coverage(const VicpFrameConstants& fc, const 
         }
 }
 
+// --interpolation gpu: the seed's programs on a whole cell: ProjectTet's records, VertexProg at each front face's
+// vertices, the varyings through the interpolation stage, FragmentProg's exit, today's compositing. The segment's
+// distances from the eye (the ordering-error diagnostic's) come from the exact variant's constants, which the seed's
+// fragment does not have.
+void VicpRenderer::composite_seed(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot,
+                                  const VicpSeedView& view, const std::vector<SetupVertex>& setup, const TileRect& tile,
+                                  ViewportArithmetic arith, const SegmentShader& shade, int width,
+                                  std::vector<glm::vec4>& fb, std::vector<VicpDiagnostics>& diag,
+                                  std::vector<uint32_t>& wrong_exits) const
+{
+    const Framebuffer fbuf{fs.width, fs.height, RenderTarget::fbo};
+    const VicpCell& cell = fs.stream[slot];
+    bool have_records = false;
+    VicpSeedVertex records[12];
+    VicpTet tet;
+    for (int f = 0; f < 4; ++f) {
+        const uint32_t v[3] = {cell.v[std::size_t(kVicpCorner[f][0])], cell.v[std::size_t(kVicpCorner[f][1])],
+                               cell.v[std::size_t(kVicpCorner[f][2])]};
+        const WindowCoord wv[3] = {fs.win[v[0]], fs.win[v[1]], fs.win[v[2]]};
+        const TriangleSetup ts = setup_triangle(wv, fbuf);
+        if (ts.empty() || ts.facing != Facing::front) continue;
+        if (!have_records) {
+            mesh_.seed_records(cell, fs.points_f, records);
+            tet = mesh_.constants(cell, fs.snapped);
+            have_records = true;
+        }
+        const SetupVertex sv[3] = {setup[v[0]], setup[v[1]], setup[v[2]]};
+        VicpSeedVaryings vary[3];
+        for (int j = 0; j < 3; ++j) vary[j] = vicp_seed_vertex_program(view, records[3 * f + j]);
+        const VicpSeedPlanes planes = vicp_seed_planes(sv, vary, ts);
+        for_each_fragment_in_tile(ts, tile, [&](int px, int py) {
+            const VicpSeedExit e = vicp_seed_exit(vicp_seed_varyings_at(planes, px, py, arith));
+            const VicpSegment exact = vicp_fragment_values(fc, tet, px, py);
+            const VicpSegment seg{e.s_front, e.s_back, exact.t_in, exact.t_in + double(e.length), e.length};
+            const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
+            vicp_composite(fc, seg, fb[p], shade, &diag[p]);
+            // A wrong exit: another face than the exact crossing's, or a segment where the exact ray has none (or the
+            // reverse). Entry j is the face opposite the front face's corner j.
+            const int chosen = e.face < 0 ? -1 : kVicpCorner[f][e.face];
+            const int expected = exact.length > 0.0 ? exact.exit_face : -1;
+            if (chosen != expected) ++wrong_exits[p];
+        });
+    }
+}
+
 VicpRenderer::VicpRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
                            const TransferFunction& tf, const VicpOptions& options)
     : mesh_(mesh, topo, field, tf, options)
@@ -134,10 +183,30 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
 
     t0 = Clock::now();
     const bool exact_coverage = mesh_.options().coverage == Coverage::exact;
+    const bool seed = mesh_.options().interpolation == InterpolationMode::gpu;
+    if (seed && (!fs.cuts.empty() || exact_coverage))
+        throw InputError(mesh_.mesh().source, !fs.cuts.empty()
+                                                  ? "--interpolation gpu with --algo vicp does not yet draw a view that "
+                                                    "cuts the mesh (docs/vicp.md, \"The seed's pipeline\")"
+                                                  : "--interpolation gpu with --algo vicp takes the rasterizer's "
+                                                    "coverage only");
+    std::vector<SetupVertex> setup;  // the seed's: what attribute setup receives of each vertex
+    std::vector<uint32_t> wrong_exits(seed ? npix : 0);  // per pixel, GL rows
+    if (seed) {
+        setup.resize(fs.points_f.size());
+        for (std::size_t i = 0; i < setup.size(); ++i)
+            setup[i] = setup_vertex(vertex_position(fs.view, fs.points_f[i]).data(), fbuf);
+    }
+    const VicpSeedView seed_view{cam.orthographic ? 1 : 0, glm::vec3(camera_frame(cam).f)};
+    const ViewportArithmetic arith = host_viewport_arithmetic();
     tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
         for (uint32_t slot : items) {
             if (exact_coverage) {
                 composite_exact_coverage(fc, fs, slot, cut_index(slot) != kWholeCell, tile, shade, width, fb, diag);
+                continue;
+            }
+            if (seed) {
+                composite_seed(fc, fs, slot, seed_view, setup, tile, arith, shade, width, fb, diag, wrong_exits);
                 continue;
             }
             bool have_constants = false;
@@ -174,6 +243,13 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
     st.raster_fragment_ms = ms_since(t0);
 
     store_vicp_frame(fb, diag, width, height, out);
+    if (seed) {
+        out.wrong_exits.resize(npix);
+        for_each_gl_pixel(width, height, [&](std::size_t p, std::size_t q) {
+            out.wrong_exits[q] = wrong_exits[p];
+            st.wrong_exits += wrong_exits[p];
+        });
+    }
     return out;
 }
 

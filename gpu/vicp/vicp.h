@@ -25,12 +25,16 @@ struct VicpStats {
     // The clip stage (gpu/vicp/vicp_clip.h): cells drawn through it, cells outside the view, near-plane sections, fan
     // triangles, and triangles with a vertex the GPU's frustum test would clip (0 unless its margins failed).
     uint64_t clipped_cells = 0, culled_cells = 0, near_sections = 0, fan_triangles = 0, gpu_clipped = 0;
+    // --interpolation gpu (emulation): fragments whose smallest positive distance picked another face than the exact
+    // crossing's exit (the seed's wrong exits, docs/vicp.md "The seed's pipeline").
+    uint64_t wrong_exits = 0;
 };
 
 struct VicpFrame {
     Image image;
-    // Per pixel, SPEC §2 order (row 0 at the top): fragments, ordering errors.
-    std::vector<uint32_t> fragments, ordering_errors;
+    // Per pixel, SPEC §2 order (row 0 at the top): fragments, ordering errors; with the seed's interpolation
+    // (emulation), wrong exits.
+    std::vector<uint32_t> fragments, ordering_errors, wrong_exits;
     VicpStats stats;
 };
 
@@ -52,6 +56,10 @@ public:
 private:
     VicpMesh mesh_;
 
+    void composite_seed(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot, const VicpSeedView& view,
+                        const std::vector<SetupVertex>& setup, const TileRect& tile, ViewportArithmetic arith,
+                        const SegmentShader& shade, int width, std::vector<glm::vec4>& fb,
+                        std::vector<VicpDiagnostics>& diag, std::vector<uint32_t>& wrong_exits) const;
     void composite_exact_coverage(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot, bool cut,
                                   const TileRect& tile, const SegmentShader& shade, int width, std::vector<glm::vec4>& fb,
                                   std::vector<VicpDiagnostics>& diag) const;

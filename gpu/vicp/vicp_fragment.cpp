@@ -47,11 +47,12 @@ VicpSegment vicp_fragment_values(const VicpFrameConstants& fc, const VicpTet& te
     // decided) bounds nothing: its crossing -a / b would be rounding noise (kParallelFace).
     const double parallel = kParallelFace * ((std::fabs(b[0]) + std::fabs(b[1])) + (std::fabs(b[2]) + std::fabs(b[3])));
     double t_in = 0.0, t_out = kVicpNoExit;
+    int exit_face = -1;
     for (int i = 0; i < 4; ++i) {
         if (!(std::fabs(b[i]) > parallel)) continue;
         const double t = -a[i] / b[i];
         if (b[i] > 0.0 && t > t_in) t_in = t;
-        if (b[i] < 0.0 && t < t_out) t_out = t;
+        if (b[i] < 0.0 && t < t_out) t_out = t, exit_face = i;
     }
     const double scale = std::sqrt((dx * dx + dy * dy) + dz * dz);
     // The scalar along the ray, from the exact cell's field: s(t) = s0 + (g . (o - base) + t g . d).
@@ -67,6 +68,7 @@ VicpSegment vicp_fragment_values(const VicpFrameConstants& fc, const VicpTet& te
     out.t_in = t_in * scale;
     out.t_out = t_out * scale;
     out.length = (t_out - t_in) * scale;
+    out.exit_face = exit_face;
     return out;
 }
 

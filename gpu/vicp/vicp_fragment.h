@@ -29,6 +29,8 @@ struct VicpSegment {
     double s_front = 0.0, s_back = 0.0;  // normalized scalars at entry and exit, clamped to [0, 1]
     double t_in = 0.0, t_out = 0.0;      // distances of entry and exit
     double length = 0.0;                 // t_out - t_in (negative or 0: the ray misses the tetrahedron)
+    int exit_face = -1;                  // the vertex whose opposite face is the exit, -1 for none (emulation only:
+                                         // the seed's wrong-exit diagnostic, gpu/vicp/vicp.cpp)
 };
 // A face counts as parallel to the ray when |b_i| <= kParallelFace * sum_j |b_j|. A ray lying in a face's plane (a
 // pixel centre on a face seen edge-on, as on an unjittered grid seen along its axes) has b_i = 0 up to the rounding

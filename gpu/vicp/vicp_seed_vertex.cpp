@@ -49,4 +49,13 @@ glm::dvec3 vicp_seed_plane(const glm::dvec3& v, const glm::dvec3& a, const glm::
     return n / glm::dot(n, a - v);
 }
 
+glm::dvec3 vicp_seed_gradient(const glm::dvec3 p[4], const double s[4])
+{
+    const glm::dvec3 e1 = p[1] - p[0], e2 = p[2] - p[0], e3 = p[3] - p[0];
+    const double det = glm::dot(e1, glm::cross(e2, e3));
+    if (det == 0.0) return glm::dvec3(0.0);
+    return (glm::cross(e2, e3) * (s[1] - s[0]) + glm::cross(e3, e1) * (s[2] - s[0]) +
+            glm::cross(e1, e2) * (s[3] - s[0])) / det;
+}
+
 }  // namespace uvr::gpu

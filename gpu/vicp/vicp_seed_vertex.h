@@ -37,5 +37,7 @@ VicpSeedVaryings vicp_seed_vertex_program(const VicpSeedView& view, const VicpSe
 // The plane of the face opposite vertex `v` of the tetrahedron (v, a, b, c) in the record's three components, in
 // double: N = (b - a) x (c - a), n = N / (N . (a - v)). The tetrahedron must not be flat.
 glm::dvec3 vicp_seed_plane(const glm::dvec3& v, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
+// The gradient of the linear field with values s[i] at p[i], in double (0 for a flat cell).
+glm::dvec3 vicp_seed_gradient(const glm::dvec3 p[4], const double s[4]);
 
 }  // namespace uvr::gpu

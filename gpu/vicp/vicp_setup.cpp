@@ -77,6 +77,24 @@ VicpTet VicpMesh::constants(const VicpCell& cell, const std::vector<glm::dvec3>&
     return vicp_tet_constants(shape, exact, s, cell.boundary);
 }
 
+void VicpMesh::seed_records(const VicpCell& cell, const std::vector<glm::vec3>& points_f, VicpSeedVertex out[12]) const
+{
+    const Tet& t = cell.v;
+    const glm::dvec3 p[4] = {points_d_[t[0]], points_d_[t[1]], points_d_[t[2]], points_d_[t[3]]};
+    const double s[4] = {scalar_n_[t[0]], scalar_n_[t[1]], scalar_n_[t[2]], scalar_n_[t[3]]};
+    const glm::vec3 g(vicp_seed_gradient(p, s));
+    glm::vec3 plane[4];
+    for (int v = 0; v < 4; ++v) {
+        const int* o = kVicpCorner[v];  // the face opposite v
+        plane[v] = glm::vec3(vicp_seed_plane(p[v], p[o[0]], p[o[1]], p[o[2]]));
+    }
+    for (int f = 0; f < 4; ++f)
+        for (int j = 0; j < 3; ++j) {
+            const int v = kVicpCorner[f][j];
+            out[3 * f + j] = VicpSeedVertex{points_f[t[std::size_t(v)]], float(s[v]), g, plane[v], float(j)};
+        }
+}
+
 double vicp_resident_bytes_per_cell(const VicpMesh& vm)
 {
     const double per_point = 3 * sizeof(double) + sizeof(double);

@@ -15,6 +15,7 @@
 #include "gpu/vicp/vicp_clip.h"
 #include "gpu/vicp/vicp_fragment.h"
 #include "gpu/vicp/vicp_order.h"
+#include "gpu/vicp/vicp_seed_vertex.h"
 
 namespace uvr::gpu {
 
@@ -34,6 +35,9 @@ struct VicpOptions {
     double table_max_length = 0.0;  // 0: the mesh's longest edge
     TextureFilter filter = TextureFilter::linear;
     Coverage coverage = Coverage::gpu;  // --coverage exact: a cell covers the pixels whose rays cross it (emulation)
+    // gpu: the seed's programs (emulation only so far, and views that cut no cell; docs/vicp.md "The seed's
+    // pipeline"); exact: the per-cell ray-plane variant, still the default until the GL driver draws the seed's.
+    InterpolationMode interpolation = InterpolationMode::exact;
 };
 
 class VicpMesh {
@@ -60,6 +64,10 @@ public:
     // The vertex program's constants of an oriented tetrahedron: its shape from the frame's snapped points, its field
     // from the mesh's.
     VicpTet constants(const VicpCell& cell, const std::vector<glm::dvec3>& snapped) const;
+    // ProjectTet's 12 records of an oriented cell (--interpolation gpu), face f's vertex j at 3 f + j in kVicpCorner's
+    // order: positions from the frame's vertex buffer (relative to the eye), planes and gradient from the mesh's
+    // points in double, rounded once.
+    void seed_records(const VicpCell& cell, const std::vector<glm::vec3>& points_f, VicpSeedVertex out[12]) const;
 
 private:
     const TetMesh& mesh_;
