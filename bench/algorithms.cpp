@@ -382,7 +382,10 @@ public:
                              {"gpu_clipped", st.gpu_clipped}}},
                    {"stages_ms", {{"sort", st.sort_ms}, {"project", st.project_ms}, {"vertex_and_setup", st.setup_ms},
                                   {"raster_and_fragment", st.raster_fragment_ms}, {"readback", st.readback_ms}}}};
-        if (vm.options().interpolation == gpu::InterpolationMode::gpu) r.stats["wrong_exits"] = st.wrong_exits;
+        if (vm.options().interpolation == gpu::InterpolationMode::gpu) {
+            r.stats["wrong_exits"] = st.wrong_exits;
+            r.stats["max_length_error"] = st.max_length_error;
+        }
         if (ctx_) r.stats["gl"] = ctx_->info().summary();
         r.image = std::move(f.image);
         r.fragments = std::move(f.fragments);

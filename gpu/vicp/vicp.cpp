@@ -100,7 +100,7 @@ void VicpRenderer::composite_seed(const VicpFrameConstants& fc, const VicpFrameS
                                   const VicpSeedView& view, const std::vector<SetupVertex>& setup, const TileRect& tile,
                                   ViewportArithmetic arith, const SegmentShader& shade, int width,
                                   std::vector<glm::vec4>& fb, std::vector<VicpDiagnostics>& diag,
-                                  std::vector<uint32_t>& wrong_exits) const
+                                  std::vector<uint32_t>& wrong_exits, std::vector<float>& length_error) const
 {
     const Framebuffer fbuf{fs.width, fs.height, RenderTarget::fbo};
     const VicpCell& cell = fs.stream[slot];
@@ -133,6 +133,9 @@ void VicpRenderer::composite_seed(const VicpFrameConstants& fc, const VicpFrameS
             const int chosen = e.face < 0 ? -1 : kVicpCorner[f][e.face];
             const int expected = exact.length > 0.0 ? exact.exit_face : -1;
             if (chosen != expected) ++wrong_exits[p];
+            // The length error: the interpolated segment against the exact one (none where the ray misses the cell).
+            const double exact_length = exact.length > 0.0 ? exact.length : 0.0;
+            length_error[p] = std::max(length_error[p], float(std::abs(double(e.length) - exact_length)));
         });
     }
 }
@@ -192,6 +195,7 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
                                                     "coverage only");
     std::vector<SetupVertex> setup;  // the seed's: what attribute setup receives of each vertex
     std::vector<uint32_t> wrong_exits(seed ? npix : 0);  // per pixel, GL rows
+    std::vector<float> length_error(seed ? npix : 0);
     if (seed) {
         setup.resize(fs.points_f.size());
         for (std::size_t i = 0; i < setup.size(); ++i)
@@ -206,7 +210,8 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
                 continue;
             }
             if (seed) {
-                composite_seed(fc, fs, slot, seed_view, setup, tile, arith, shade, width, fb, diag, wrong_exits);
+                composite_seed(fc, fs, slot, seed_view, setup, tile, arith, shade, width, fb, diag, wrong_exits,
+                               length_error);
                 continue;
             }
             bool have_constants = false;
@@ -245,9 +250,12 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
     store_vicp_frame(fb, diag, width, height, out);
     if (seed) {
         out.wrong_exits.resize(npix);
+        out.length_error.resize(npix);
         for_each_gl_pixel(width, height, [&](std::size_t p, std::size_t q) {
             out.wrong_exits[q] = wrong_exits[p];
+            out.length_error[q] = length_error[p];
             st.wrong_exits += wrong_exits[p];
+            st.max_length_error = std::max(st.max_length_error, double(length_error[p]));
         });
     }
     return out;

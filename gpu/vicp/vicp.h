@@ -28,13 +28,15 @@ struct VicpStats {
     // --interpolation gpu (emulation): fragments whose smallest positive distance picked another face than the exact
     // crossing's exit (the seed's wrong exits, docs/vicp.md "The seed's pipeline").
     uint64_t wrong_exits = 0;
+    double max_length_error = 0.0;  // the largest |interpolated - exact| segment length of a fragment (world units)
 };
 
 struct VicpFrame {
     Image image;
     // Per pixel, SPEC §2 order (row 0 at the top): fragments, ordering errors; with the seed's interpolation
-    // (emulation), wrong exits.
+    // (emulation), wrong exits and the largest |interpolated - exact| segment length of the pixel's fragments.
     std::vector<uint32_t> fragments, ordering_errors, wrong_exits;
+    std::vector<float> length_error;
     VicpStats stats;
 };
 
@@ -59,7 +61,8 @@ private:
     void composite_seed(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot, const VicpSeedView& view,
                         const std::vector<SetupVertex>& setup, const TileRect& tile, ViewportArithmetic arith,
                         const SegmentShader& shade, int width, std::vector<glm::vec4>& fb,
-                        std::vector<VicpDiagnostics>& diag, std::vector<uint32_t>& wrong_exits) const;
+                        std::vector<VicpDiagnostics>& diag, std::vector<uint32_t>& wrong_exits,
+                        std::vector<float>& length_error) const;
     void composite_exact_coverage(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot, bool cut,
                                   const TileRect& tile, const SegmentShader& shade, int width, std::vector<glm::vec4>& fb,
                                   std::vector<VicpDiagnostics>& diag) const;
