@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 
 #include <tbb/parallel_for.h>
 
@@ -128,6 +129,8 @@ RaycastBoxPass raycast_box_pass(const RaycastBoxFrame& bf, Facing facing)
     const Framebuffer fbuf{bf.width, bf.height, RenderTarget::fbo};
     const ViewportArithmetic arith = host_viewport_arithmetic();
     std::vector<uint8_t> written(npix, 0);
+    std::atomic<uint64_t> covered{0}, overlaps{0};
+    const FlushDenormals llvmpipe_mxcsr;  // llvmpipe's setup runs with denormals flushed, as its shader threads
     for (std::size_t t = 0; t < bf.triangles(); ++t) {
         const WindowCoord wv[3] = {bf.win[3 * t], bf.win[3 * t + 1], bf.win[3 * t + 2]};
         const TriangleSetup ts = setup_triangle(wv, fbuf);
@@ -140,33 +143,32 @@ RaycastBoxPass raycast_box_pass(const RaycastBoxFrame& bf, Facing facing)
                                     bf.vertices[3 * t + 2].tex[c]};
             planes[c] = attribute_plane(as, sv, value, Qualifier::smooth);
         }
-        // Rows in parallel: a triangle covers a pixel at most once, so rows write disjoint pixels.
+        // Rows in parallel: a triangle covers a pixel at most once, so rows write disjoint pixels. A pixel an earlier
+        // triangle wrote keeps its value (the depth test would decide there) and counts as an overlap.
         tbb::parallel_for(ts.y0, ts.y1 + 1, [&](int py) {
-            const FlushDenormals llvmpipe_mxcsr;  // as llvmpipe's setup and shader threads
+            const FlushDenormals row_mxcsr;  // each worker thread's own
             int first = 0, last = -1;
             row_span(ts, py, first, last);
+            uint64_t row_covered = 0, row_overlaps = 0;
             for (int px = first; px <= last; ++px) {
                 const std::size_t p = std::size_t(py) * std::size_t(bf.width) + std::size_t(px);
+                if (written[p]) {
+                    ++row_overlaps;
+                    continue;
+                }
                 const float factor = perspective_factor(as, px, py, arith);
                 float tex[3];
                 interpolate(planes, 3, Qualifier::smooth, px, py, factor, arith, tex);
-                if (written[p]) continue;  // counted below, after the parallel part
                 out.position[p] = glm::vec4(tex[0], tex[1], tex[2], 1.0f);
-                written[p] = 2;
+                written[p] = 1;
+                ++row_covered;
             }
+            covered += row_covered;
+            overlaps += row_overlaps;
         });
-        // Pixels this triangle met that an earlier one had written: marked 1 before, still 1 now only if skipped.
-        for (int py = ts.y0; py <= ts.y1; ++py) {
-            int first = 0, last = -1;
-            row_span(ts, py, first, last);
-            for (int px = first; px <= last; ++px) {
-                uint8_t& w = written[std::size_t(py) * std::size_t(bf.width) + std::size_t(px)];
-                if (w == 1) ++out.overlaps;
-                if (w == 2) ++out.covered;
-                w = 1;
-            }
-        }
     }
+    out.covered = covered;
+    out.overlaps = overlaps;
     return out;
 }
 
