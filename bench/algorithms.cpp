@@ -130,12 +130,7 @@ gpu::VicpOptions vicp_options(const AlgoOptions& a)
 {
     const TableOptions t = table_options(a, 1.0);
     gpu::VicpOptions o;
-    // VICP's seed pipeline is emulated only so far (issue 25): exact stays its default until the GL driver draws it.
-    o.interpolation = a.interpolation.empty() ? gpu::InterpolationMode::exact : interpolation_option(a);
-    if (o.interpolation == gpu::InterpolationMode::gpu && a.backend != "emu")
-        throw InputError("", "--interpolation gpu with --algo vicp runs only in the emulation (--backend emu) so far: "
-                             "its GL driver does not draw the seed's programs yet (docs/vicp.md, \"The seed's "
-                             "pipeline\")");
+    o.interpolation = interpolation_option(a);
     o.order = gpu::parse_cell_order(a.order);
     o.segment = t.segment;
     o.threshold = t.threshold;
@@ -383,8 +378,11 @@ public:
                    {"stages_ms", {{"sort", st.sort_ms}, {"project", st.project_ms}, {"vertex_and_setup", st.setup_ms},
                                   {"raster_and_fragment", st.raster_fragment_ms}, {"readback", st.readback_ms}}}};
         if (vm.options().interpolation == gpu::InterpolationMode::gpu) {
-            r.stats["wrong_exits"] = st.wrong_exits;
-            r.stats["max_length_error"] = st.max_length_error;
+            // The wrong-exit and length diagnostics compare with the exact segment, which only the emulation computes
+            // (the GL frame is the emulation's, bit for bit: tests/test_vicp_gl_frame.cpp); null on GL.
+            r.stats["wrong_exits"] = emu_ ? nlohmann::json(st.wrong_exits) : nlohmann::json();
+            r.stats["max_length_error"] = emu_ ? nlohmann::json(st.max_length_error) : nlohmann::json();
+            r.stats["exact_cut_cells"] = st.clipped_cells;  // drawn by the exact variant (docs/vicp.md)
         }
         if (ctx_) r.stats["gl"] = ctx_->info().summary();
         r.image = std::move(f.image);

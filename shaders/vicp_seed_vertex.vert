@@ -1,26 +1,6 @@
 // VICP-VertexProg as seed 003 gives it (--interpolation gpu): the GLSL twin of gpu/vicp/vicp_seed_vertex.cpp,
 // operation for operation, every result `precise` (no fused multiply-add, no reordering). Read that file's header
-// first. vicp_seed_fragment.frag's VicpSeedVaryings is declared here too (the vertex side's copy of the struct).
-
-struct VicpSeedVaryings {
-    vec3 distance;
-    vec3 scalar;
-    float s;
-};
-
-uniform int vicp_seed_orthographic;  // VicpSeedView
-uniform vec3 vicp_seed_direction;
-
-// ((a.z b.z + a.y b.y) + a.x b.x), as the emulation's dot3.
-float vicp_seed_dot3(vec3 a, vec3 b)
-{
-    precise float zz = a.z * b.z;
-    precise float yy = a.y * b.y;
-    precise float xx = a.x * b.x;
-    precise float zy = zz + yy;
-    precise float d = zy + xx;
-    return d;
-}
+// first. vicp_seed.glsl (the struct, the view's uniforms, the dot product) is compiled in front of this file.
 
 VicpSeedVaryings vicp_seed_vertex_program(vec3 position, float s, vec3 gradient, vec3 plane, float index)
 {

@@ -65,6 +65,10 @@ struct GlVicpRenderer::Objects {
     std::unique_ptr<GlProgram> program;
     GLuint vao = 0;
     GLuint buffers[kBindings] = {};
+    // --interpolation gpu: the seed's program and ProjectTet's records as vertex attributes, a chunk at a time.
+    std::unique_ptr<GlProgram> seed_program;
+    GLuint seed_vao = 0, seed_vbo = 0;
+    std::vector<VicpSeedVertex> records;  // the chunk being sent
     GLuint table_texture = 0;
     std::unique_ptr<GlFloatFramebuffer> framebuffer;  // colour, diagnostics
 
@@ -73,8 +77,11 @@ struct GlVicpRenderer::Objects {
     {
         framebuffer.reset();
         program.reset();
+        seed_program.reset();
         gl.DeleteBuffers(kBindings, buffers);
         if (vao) gl.DeleteVertexArrays(1, &vao);
+        if (seed_vao) gl.DeleteVertexArrays(1, &seed_vao);
+        if (seed_vbo) gl.DeleteBuffers(1, &seed_vbo);
         if (table_texture) gl.DeleteTextures(1, &table_texture);
     }
     void upload(Binding b, const void* data, std::size_t bytes, GLenum usage)
@@ -103,6 +110,29 @@ GlVicpRenderer::GlVicpRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
         GlShaderSource{{"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp.frag"},
                        {},
                        {kFramebufferFetch}});
+    if (mesh_.options().interpolation == InterpolationMode::gpu) {
+        gl_->seed_program = std::make_unique<GlProgram>(
+            ctx_, GlShaderSource{{"clip_position.vert", "vicp_seed.glsl", "vicp_seed_vertex.vert", "vicp_seed.vert"}, {}, {}},
+            GlShaderSource{{"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp_seed.glsl",
+                            "vicp_seed_fragment.frag", "vicp_seed.frag"},
+                           {},
+                           {kFramebufferFetch}});
+        gl.GenVertexArrays(1, &gl_->seed_vao);
+        gl.GenBuffers(1, &gl_->seed_vbo);
+        gl.BindVertexArray(gl_->seed_vao);
+        gl.BindBuffer(GL_ARRAY_BUFFER, gl_->seed_vbo);
+        const auto attribute = [&](GLuint location, GLint size, std::size_t offset) {
+            gl.EnableVertexAttribArray(location);
+            gl.VertexAttribPointer(location, size, GL_FLOAT, GL_FALSE, sizeof(VicpSeedVertex),
+                                   reinterpret_cast<const void*>(offset));
+        };
+        attribute(0, 3, offsetof(VicpSeedVertex, position));
+        attribute(1, 1, offsetof(VicpSeedVertex, s));
+        attribute(2, 3, offsetof(VicpSeedVertex, gradient));
+        attribute(3, 3, offsetof(VicpSeedVertex, plane));
+        attribute(4, 1, offsetof(VicpSeedVertex, index));
+        gl.BindVertexArray(0);
+    }
     gl.GenVertexArrays(1, &gl_->vao);
     gl.GenBuffers(kBindings, gl_->buffers);
     // The resident per-point arrays, three values (or one) a point, packed as the shader reads them.
@@ -121,62 +151,32 @@ GlVicpRenderer::~GlVicpRenderer()
     gl_.reset();
 }
 
-VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
+// The exact program over stream slots [begin, end): as few chunks as the storage block size allows, each one
+// multi-draw: runs of whole cells, and the cut cells' fans in their places.
+void GlVicpRenderer::draw_exact(const VicpFrameSetup& fs, std::size_t begin, std::size_t end, VicpStats& st)
 {
-    static_assert(sizeof(glm::vec3) == 3 * sizeof(float) && sizeof(glm::dvec3) == 3 * sizeof(double),
-                  "points are uploaded as packed triples");
-    ctx_.make_current();
     const GlFunctions& gl = ctx_.gl();
-    VicpFrame out;
-    VicpStats& st = out.stats;
-    const VicpFrameSetup fs = setup_vicp_frame(mesh_, cam, width, height);
-    const std::vector<VicpCell>& stream = fs.stream;
-    store_setup_stats(mesh_, fs, st);
-
     auto t0 = Clock::now();
-    // The frame's vertex buffer (with the clip stage's vertices) is read at any index by every draw.
-    if (double(fs.points_f.size()) * sizeof(glm::vec3) > double(max_block_bytes(ctx_)))
-        throw InputError(mesh_.mesh().source, "the frame's " + std::to_string(fs.points_f.size()) +
-                                                  " vertices exceed one storage block on " + ctx_.info().renderer +
-                                                  "; use --backend emu");
-    gl_->upload(kPointsF, fs.points_f.data(), fs.points_f.size() * sizeof(glm::vec3), GL_STREAM_DRAW);
-    gl_->upload(kSnapped, fs.snapped.data(), fs.snapped.size() * sizeof(glm::dvec3), GL_STREAM_DRAW);
-    gl_->framebuffer->bind(width, height);
-    gl.Disable(GL_BLEND);
-    gl.Disable(GL_DEPTH_TEST);
-    // Only the faces the eye sees from outside a cell make fragments (the emulation's Facing::front): not by
-    // glCullFace, whose draw-module stage culls slivers on a float determinant that can disagree with the fixed-point
-    // area llvmpipe's setup goes by (docs/rasterizer.md, "Not emulated" 2), but by the fragment program, which
-    // discards the fragments of back faces on gl_FrontFacing, the setup's own facing (shaders/vicp.frag).
-    gl.Disable(GL_CULL_FACE);
-    gl.FrontFace(GL_CCW);
-    gl.ProvokingVertex(GL_LAST_VERTEX_CONVENTION);  // the vertex that computes the flat constants (vicp.vert)
-    const float zero[4] = {0, 0, 0, 0};
-    gl.ClearBufferfv(GL_COLOR, 0, zero);
-    gl.ClearBufferfv(GL_COLOR, 1, zero);
     gl.UseProgram(gl_->program->id());
-    set_vicp_frame_uniforms(ctx_, *gl_->program, fs.constants);
-    gl.UniformMatrix4fv(gl_->program->uniform("vicp_mvp", true), 1, GL_FALSE, &fs.view.mvp[0][0]);
+    gl.BindVertexArray(gl_->vao);
     const GLint whole_vertices = gl_->program->uniform("vicp_whole_vertices", true);
     const GLint slot_base = gl_->program->uniform("vicp_slot_base", true);
-    gl.BindVertexArray(gl_->vao);
-    ctx_.check_error("preparing the VICP draw");
-    st.setup_ms = fs.vertex_ms + ms_since(t0);
-
-    // The stream in order, as few chunks as the storage block size allows (GL keeps primitive order across draws),
-    // each one multi-draw: runs of whole cells, and the cut cells' fans in their places.
+    const std::vector<VicpCell>& stream = fs.stream;
     const std::size_t chunk = cells_per_draw();
-    std::size_t cut = 0;  // the first cut cell not drawn yet
+    // The first cut cell at or after `begin`.
+    std::size_t cut = std::size_t(std::lower_bound(fs.cuts.begin(), fs.cuts.end(), begin,
+                                                   [](const VicpCut& c, std::size_t s) { return c.slot < s; }) -
+                                  fs.cuts.begin());
     std::vector<GLint> firsts;
     std::vector<GLsizei> sizes;
-    for (std::size_t c0 = 0; c0 < stream.size(); c0 += chunk) {
-        const std::size_t n = std::min(chunk, stream.size() - c0);
-        t0 = Clock::now();
+    for (std::size_t c0 = begin; c0 < end; c0 += chunk) {
+        const std::size_t n = std::min(chunk, end - c0);
         gl_->upload(kStream, stream.data() + c0, n * sizeof(VicpCell), GL_STREAM_DRAW);
         // The chunk's cut cells and their fans; the fans' vertex IDs start after the whole cells'.
-        const std::size_t cut_end = std::lower_bound(fs.cuts.begin() + std::ptrdiff_t(cut), fs.cuts.end(), c0 + n,
-                                                     [](const VicpCut& c, std::size_t s) { return c.slot < s; }) -
-                                    fs.cuts.begin();
+        const std::size_t cut_end = std::size_t(std::lower_bound(fs.cuts.begin() + std::ptrdiff_t(cut), fs.cuts.end(),
+                                                                 c0 + n,
+                                                                 [](const VicpCut& c, std::size_t s) { return c.slot < s; }) -
+                                                fs.cuts.begin());
         const std::size_t fan0 = cut < cut_end ? fs.cuts[cut].first : 0;
         const std::size_t fan1 = cut < cut_end ? fs.cuts[cut_end - 1].first + fs.cuts[cut_end - 1].count : 0;
         const uint32_t empty[4] = {0, 0, 0, 0};  // a buffer is never empty
@@ -210,7 +210,106 @@ VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
         t0 = Clock::now();
         if (!firsts.empty()) gl.MultiDrawArrays(GL_TRIANGLES, firsts.data(), sizes.data(), GLsizei(firsts.size()));
         st.raster_fragment_ms += ms_since(t0);
+        t0 = Clock::now();
         ++st.draws;
+    }
+}
+
+// The seed's program over stream slots [begin, end), all whole cells: ProjectTet's records of a chunk of cells
+// (12 vertices a cell) sent as vertex attributes, then drawn; the chunk bounds what the GPU holds of them.
+void GlVicpRenderer::draw_seed(const VicpFrameSetup& fs, std::size_t begin, std::size_t end, VicpStats& st)
+{
+    const GlFunctions& gl = ctx_.gl();
+    gl.UseProgram(gl_->seed_program->id());
+    gl.BindVertexArray(gl_->seed_vao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, gl_->seed_vbo);
+    const std::size_t chunk = cells_per_draw_ ? cells_per_draw_ : kSeedCellsPerDraw;
+    std::vector<VicpSeedVertex>& records = gl_->records;
+    for (std::size_t c0 = begin; c0 < end; c0 += chunk) {
+        const std::size_t n = std::min(chunk, end - c0);
+        auto t0 = Clock::now();
+        records.resize(kVicpVerticesPerTet * n);
+        for (std::size_t i = 0; i < n; ++i)
+            mesh_.seed_records(fs.stream[c0 + i], fs.points_f, &records[kVicpVerticesPerTet * i]);
+        st.project_ms += ms_since(t0);
+        t0 = Clock::now();
+        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(records.size() * sizeof(VicpSeedVertex)), records.data(),
+                      GL_STREAM_DRAW);
+        st.setup_ms += ms_since(t0);
+        t0 = Clock::now();
+        gl.DrawArrays(GL_TRIANGLES, 0, GLsizei(records.size()));
+        st.raster_fragment_ms += ms_since(t0);
+        ++st.draws;
+    }
+}
+
+VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
+{
+    static_assert(sizeof(glm::vec3) == 3 * sizeof(float) && sizeof(glm::dvec3) == 3 * sizeof(double),
+                  "points are uploaded as packed triples");
+    ctx_.make_current();
+    const GlFunctions& gl = ctx_.gl();
+    VicpFrame out;
+    VicpStats& st = out.stats;
+    const VicpFrameSetup fs = setup_vicp_frame(mesh_, cam, width, height);
+    store_setup_stats(mesh_, fs, st);
+    const bool seed = mesh_.options().interpolation == InterpolationMode::gpu;
+
+    auto t0 = Clock::now();
+    // The exact program's per-frame buffers (every cell without the seed, the cut cells with it), read at any index by
+    // every draw.
+    if (!seed || !fs.cuts.empty()) {
+        if (double(fs.points_f.size()) * sizeof(glm::vec3) > double(max_block_bytes(ctx_)))
+            throw InputError(mesh_.mesh().source, "the frame's " + std::to_string(fs.points_f.size()) +
+                                                      " vertices exceed one storage block on " +
+                                                      ctx_.info().renderer + "; use --backend emu");
+        gl_->upload(kPointsF, fs.points_f.data(), fs.points_f.size() * sizeof(glm::vec3), GL_STREAM_DRAW);
+        gl_->upload(kSnapped, fs.snapped.data(), fs.snapped.size() * sizeof(glm::dvec3), GL_STREAM_DRAW);
+    }
+    gl_->framebuffer->bind(width, height);
+    gl.Disable(GL_BLEND);
+    gl.Disable(GL_DEPTH_TEST);
+    // Only the faces the eye sees from outside a cell make fragments (the emulation's Facing::front): not by
+    // glCullFace, whose draw-module stage culls slivers on a float determinant that can disagree with the fixed-point
+    // area llvmpipe's setup goes by (docs/rasterizer.md, "Not emulated" 2), but by the fragment program, which
+    // discards the fragments of back faces on gl_FrontFacing, the setup's own facing (shaders/vicp.frag).
+    gl.Disable(GL_CULL_FACE);
+    gl.FrontFace(GL_CCW);
+    gl.ProvokingVertex(GL_LAST_VERTEX_CONVENTION);  // the vertex that computes the flat constants (vicp.vert)
+    const float zero[4] = {0, 0, 0, 0};
+    gl.ClearBufferfv(GL_COLOR, 0, zero);
+    gl.ClearBufferfv(GL_COLOR, 1, zero);
+    // Each program's uniforms, once a frame (a program keeps its own).
+    gl.UseProgram(gl_->program->id());
+    set_vicp_frame_uniforms(ctx_, *gl_->program, fs.constants);
+    gl.UniformMatrix4fv(gl_->program->uniform("vicp_mvp", true), 1, GL_FALSE, &fs.view.mvp[0][0]);
+    if (seed) {
+        const GlProgram& sp = *gl_->seed_program;
+        gl.UseProgram(sp.id());
+        set_vicp_frame_uniforms(ctx_, sp, fs.constants);
+        gl.UniformMatrix4fv(sp.uniform("vicp_mvp", true), 1, GL_FALSE, &fs.view.mvp[0][0]);
+        const VicpSeedView view = vicp_seed_view(cam);
+        gl.Uniform1i(sp.uniform("vicp_seed_orthographic", true), view.orthographic);
+        gl.Uniform3f(sp.uniform("vicp_seed_direction"), view.direction.x, view.direction.y, view.direction.z);
+    }
+    ctx_.check_error("preparing the VICP draw");
+    st.setup_ms = fs.vertex_ms + ms_since(t0);
+
+    if (!seed) {
+        draw_exact(fs, 0, fs.stream.size(), st);
+    } else {
+        // Runs of whole cells through the seed's program, the cut cells between them in their places through the
+        // exact program (docs/vicp.md, "The cells a view cuts, under the seed"); GL keeps primitive order across draws.
+        std::size_t slot = 0;
+        for (std::size_t i = 0; i < fs.cuts.size();) {
+            const std::size_t first = fs.cuts[i].slot;
+            std::size_t last = first + 1;  // a run of consecutive cut cells, one exact draw
+            for (++i; i < fs.cuts.size() && fs.cuts[i].slot == last; ++i) ++last;
+            if (first > slot) draw_seed(fs, slot, first, st);
+            draw_exact(fs, first, last, st);
+            slot = last;
+        }
+        if (fs.stream.size() > slot) draw_seed(fs, slot, fs.stream.size(), st);
     }
     t0 = Clock::now();
     gl.Finish();

@@ -39,8 +39,14 @@ public:
 
     const VicpMesh& cpu_stage() const { return mesh_; }
 
+    // Cells a seed draw sends (--interpolation gpu): 16,384 cells are 8.6 MB of records (528 bytes a cell), which the
+    // GPU holds whatever the mesh's size.
+    static constexpr std::size_t kSeedCellsPerDraw = 16384;
+
 private:
     struct Objects;
+    void draw_exact(const VicpFrameSetup& fs, std::size_t begin, std::size_t end, VicpStats& st);
+    void draw_seed(const VicpFrameSetup& fs, std::size_t begin, std::size_t end, VicpStats& st);
     GlContext& ctx_;
     VicpMesh mesh_;
     std::size_t cells_per_draw_ = 0;

@@ -115,7 +115,7 @@ const GlProgram& GlVicpHarness::program(int which)
     if (!p) {
         if (which == 4) {
             p = std::make_unique<GlProgram>(
-                ctx_, GlShaderSource{{"vicp_seed_vertex.vert", "vicp_harness.vert"}, {{"HARNESS_SEED_VERTEX", "1"}}, {}},
+                ctx_, GlShaderSource{{"vicp_seed.glsl", "vicp_seed_vertex.vert", "vicp_harness.vert"}, {{"HARNESS_SEED_VERTEX", "1"}}, {}},
                 GlShaderSource{{"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp_harness.frag"},
                                {{"HARNESS_NONE", "1"}},
                                {}});

@@ -94,8 +94,8 @@ void VicpRenderer::composite_exact_coverage(const VicpFrameConstants& fc, const 
 
 // --interpolation gpu: the seed's programs on a whole cell: ProjectTet's records, VertexProg at each front face's
 // vertices, the varyings through the interpolation stage, FragmentProg's exit, today's compositing. The segment's
-// distances from the eye (the ordering-error diagnostic's) come from the exact variant's constants, which the seed's
-// fragment does not have.
+// distance from the eye (the ordering-error diagnostic's) is the interpolated entry point's (vicp_seed_entry_distance);
+// the wrong-exit and length diagnostics compare with the exact variant's segment, which only the emulation computes.
 void VicpRenderer::composite_seed(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot,
                                   const VicpSeedView& view, const std::vector<SetupVertex>& setup, const TileRect& tile,
                                   ViewportArithmetic arith, const SegmentShader& shade, int width,
@@ -122,10 +122,21 @@ void VicpRenderer::composite_seed(const VicpFrameConstants& fc, const VicpFrameS
         VicpSeedVaryings vary[3];
         for (int j = 0; j < 3; ++j) vary[j] = vicp_seed_vertex_program(view, records[3 * f + j]);
         const VicpSeedPlanes planes = vicp_seed_planes(sv, vary, ts);
+        // The ordering-error diagnostic's entry point (vicp_seed_entry_distance): the vertex positions, `smooth`.
+        AttributePlane entry_planes[3];
+        for (int c = 0; c < 3; ++c) {
+            const float x[3] = {records[3 * f].position[c], records[3 * f + 1].position[c],
+                                records[3 * f + 2].position[c]};
+            entry_planes[c] = attribute_plane(planes.setup, sv, x, Qualifier::smooth);
+        }
         for_each_fragment_in_tile(ts, tile, [&](int px, int py) {
             const VicpSeedExit e = vicp_seed_exit(vicp_seed_varyings_at(planes, px, py, arith));
+            glm::vec3 entry;
+            interpolate(entry_planes, 3, Qualifier::smooth, px, py, perspective_factor(planes.setup, px, py, arith),
+                        arith, &entry[0]);
+            const double t_in = double(vicp_seed_entry_distance(view, entry));
+            const VicpSegment seg{e.s_front, e.s_back, t_in, t_in + double(e.length), e.length};
             const VicpSegment exact = vicp_fragment_values(fc, tet, px, py);
-            const VicpSegment seg{e.s_front, e.s_back, exact.t_in, exact.t_in + double(e.length), e.length};
             const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
             vicp_composite(fc, seg, fb[p], shade, &diag[p]);
             // A wrong exit: another face than the exact crossing's, or a segment where the exact ray has none (or the
@@ -187,12 +198,8 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
     t0 = Clock::now();
     const bool exact_coverage = mesh_.options().coverage == Coverage::exact;
     const bool seed = mesh_.options().interpolation == InterpolationMode::gpu;
-    if (seed && (!fs.cuts.empty() || exact_coverage))
-        throw InputError(mesh_.mesh().source, !fs.cuts.empty()
-                                                  ? "--interpolation gpu with --algo vicp does not yet draw a view that "
-                                                    "cuts the mesh (docs/vicp.md, \"The seed's pipeline\")"
-                                                  : "--interpolation gpu with --algo vicp takes the rasterizer's "
-                                                    "coverage only");
+    if (seed && exact_coverage)
+        throw InputError(mesh_.mesh().source, "--interpolation gpu with --algo vicp takes the rasterizer's coverage only");
     std::vector<SetupVertex> setup;  // the seed's: what attribute setup receives of each vertex
     std::vector<uint32_t> wrong_exits(seed ? npix : 0);  // per pixel, GL rows
     std::vector<float> length_error(seed ? npix : 0);
@@ -201,7 +208,7 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
         for (std::size_t i = 0; i < setup.size(); ++i)
             setup[i] = setup_vertex(vertex_position(fs.view, fs.points_f[i]).data(), fbuf);
     }
-    const VicpSeedView seed_view{cam.orthographic ? 1 : 0, glm::vec3(camera_frame(cam).f)};
+    const VicpSeedView seed_view = vicp_seed_view(cam);
     const ViewportArithmetic arith = host_viewport_arithmetic();
     tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
         for (uint32_t slot : items) {
@@ -209,7 +216,10 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
                 composite_exact_coverage(fc, fs, slot, cut_index(slot) != kWholeCell, tile, shade, width, fb, diag);
                 continue;
             }
-            if (seed) {
+            // The cells the view cuts are drawn by the exact variant in both modes: the seed's vertex program cannot
+            // give a clipped face's new vertices or a near section their distances (docs/vicp.md, "The cells a view
+            // cuts, under the seed").
+            if (seed && cut_index(slot) == kWholeCell) {
                 composite_seed(fc, fs, slot, seed_view, setup, tile, arith, shade, width, fb, diag, wrong_exits,
                                length_error);
                 continue;

@@ -6,31 +6,34 @@
 
 namespace uvr::gpu {
 
-namespace {
-// a . b as the GLSL twin writes it: ((a.z b.z + a.y b.y) + a.x b.x), each product and sum rounded (llvmpipe lowers
-// dot() from the last component, docs/havs-seed-research.md; the twin spells the order out).
-float dot3(const glm::vec3& a, const glm::vec3& b)
+// The order llvmpipe lowers dot() in (from the last component, docs/havs-seed-research.md); the twin spells it out.
+float vicp_seed_dot3(const glm::vec3& a, const glm::vec3& b)
 {
     const float zz = a.z * b.z, yy = a.y * b.y, xx = a.x * b.x;
     const float zy = zz + yy;
     return zy + xx;
 }
-}  // namespace
+
+float vicp_seed_entry_distance(const VicpSeedView& view, const glm::vec3& entry)
+{
+    if (view.orthographic != 0) return vicp_seed_dot3(entry, view.direction);
+    return std::sqrt(vicp_seed_dot3(entry, entry));  // GLSL sqrt: correctly rounded on llvmpipe (LLVM's sqrt)
+}
 
 VicpSeedVaryings vicp_seed_vertex_program(const VicpSeedView& view, const VicpSeedVertex& in)
 {
     // The view ray's direction at the vertex: v / |v| by DP3, RSQ (1 / sqrt: two roundings), MUL, or the view's.
     glm::vec3 r = view.direction;
     if (view.orthographic == 0) {
-        const float vv = dot3(in.position, in.position);
+        const float vv = vicp_seed_dot3(in.position, in.position);
         const float rsq = 1.0f / std::sqrt(vv);
         r = glm::vec3(in.position.x * rsq, in.position.y * rsq, in.position.z * rsq);
     }
     // IntersectBackFace: position + t r on the plane n . (x - position) = 1, so t = 1 / (n . r) (an IEEE division:
     // llvmpipe sets no lower_fdiv); the scalar there s + t (g . r).
-    const float nr = dot3(in.plane, r);
+    const float nr = vicp_seed_dot3(in.plane, r);
     const float t = 1.0f / nr;
-    const float gr = dot3(in.gradient, r);
+    const float gr = vicp_seed_dot3(in.gradient, r);
     const float tg = t * gr;
     const float s_exit = in.s + tg;
     VicpSeedVaryings out;

@@ -34,6 +34,14 @@ struct VicpSeedView {
 
 VicpSeedVaryings vicp_seed_vertex_program(const VicpSeedView& view, const VicpSeedVertex& in);
 
+// a . b as both twins write it: ((a.z b.z + a.y b.y) + a.x b.x), each product and sum rounded.
+float vicp_seed_dot3(const glm::vec3& a, const glm::vec3& b);
+// Not the seed's: uvr's ordering-error diagnostic needs each fragment's distance from the eye, which the seed's
+// varyings do not hold. The draw interpolates the vertex position (`smooth`, linear across the face, so the
+// interpolated point is the ray's entry up to rounding) and takes its distance along the view ray: |entry| (sqrt of
+// the dot product) under perspective, entry . direction when orthographic. Twin: shaders/vicp_seed.glsl.
+float vicp_seed_entry_distance(const VicpSeedView& view, const glm::vec3& entry);
+
 // The plane of the face opposite vertex `v` of the tetrahedron (v, a, b, c) in the record's three components, in
 // double: N = (b - a) x (c - a), n = N / (N . (a - v)). The tetrahedron must not be flat.
 glm::dvec3 vicp_seed_plane(const glm::dvec3& v, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);

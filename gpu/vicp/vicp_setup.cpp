@@ -95,6 +95,11 @@ void VicpMesh::seed_records(const VicpCell& cell, const std::vector<glm::vec3>& 
         }
 }
 
+VicpSeedView vicp_seed_view(const Camera& cam)
+{
+    return VicpSeedView{cam.orthographic ? 1 : 0, glm::vec3(camera_frame(cam).f)};
+}
+
 double vicp_resident_bytes_per_cell(const VicpMesh& vm)
 {
     const double per_point = 3 * sizeof(double) + sizeof(double);
@@ -103,6 +108,8 @@ double vicp_resident_bytes_per_cell(const VicpMesh& vm)
 
 double vicp_sent_bytes_per_cell(const VicpMesh& vm)
 {
+    if (vm.options().interpolation == InterpolationMode::gpu)
+        return double(kSeedBytesSentPerCell) * double(vm.drawn_cells()) / double(vm.mesh().tets.size());
     const double per_point = 3.0 * sizeof(double) + sizeof(glm::vec3);
     return (double(sizeof(VicpCell)) * double(vm.drawn_cells()) + per_point * double(vm.points_d().size())) /
            double(vm.mesh().tets.size());

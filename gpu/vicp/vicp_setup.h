@@ -35,9 +35,9 @@ struct VicpOptions {
     double table_max_length = 0.0;  // 0: the mesh's longest edge
     TextureFilter filter = TextureFilter::linear;
     Coverage coverage = Coverage::gpu;  // --coverage exact: a cell covers the pixels whose rays cross it (emulation)
-    // gpu: the seed's programs (emulation only so far, and views that cut no cell; docs/vicp.md "The seed's
-    // pipeline"); exact: the per-cell ray-plane variant, still the default until the GL driver draws the seed's.
-    InterpolationMode interpolation = InterpolationMode::exact;
+    // gpu: the seed's programs (docs/vicp.md "The seed's pipeline"; the cells a view cuts are drawn by the exact
+    // variant); exact: the per-cell ray-plane variant.
+    InterpolationMode interpolation = InterpolationMode::gpu;
 };
 
 class VicpMesh {
@@ -113,14 +113,18 @@ struct VicpFrameSetup {
     std::size_t fan_triangles() const { return fans.size() / 4; }
 };
 
+// The view the seed's vertex program takes (--interpolation gpu): the camera's projection and viewing direction.
+VicpSeedView vicp_seed_view(const Camera& camera);
+
 // The frame's CPU stage. A view that cuts the mesh goes through the clip stage (gpu/vicp/vicp_clip.h).
 VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& camera, int width, int height);
 
 // What the GPU holds per cell: resident (positions in double and scalars, per point; amortized over cells) and sent
-// per frame (ProjectTet's stream, 20 bytes a cell, the snapped points in double, 24 bytes a point, and the vertex
-// buffer, 12 bytes a point; the clip stage's fans, when a view cuts the mesh, are not counted).
-double vicp_sent_bytes_per_cell(const VicpMesh& vm);
+// per frame: with --interpolation exact ProjectTet's stream, 20 bytes a cell, the snapped points in double, 24 bytes a
+// point, and the vertex buffer, 12 bytes a point; with gpu the seed's records, 528 bytes a drawn cell. The cells a
+// view cuts (their fans, and with gpu the exact program's per-frame buffers) are not counted.
 inline constexpr std::size_t kSeedBytesSentPerCell = 132 * sizeof(float);  // seed 003's count
+double vicp_sent_bytes_per_cell(const VicpMesh& vm);
 double vicp_resident_bytes_per_cell(const VicpMesh& vm);
 
 }  // namespace uvr::gpu
