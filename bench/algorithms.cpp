@@ -32,10 +32,9 @@ void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
                    "crosses the primitive; emulation only)")
         ->capture_default_str();
     cmd.add_option("--interpolation", o.interpolation,
-                   "HAVS, ray caster: gpu (the rasterizer's interpolated varyings, the seed's pipeline; default) | "
-                   "exact (the fragment's values in double from the ray through the pixel centre). VICP: exact "
-                   "(default) | gpu (the seed's programs, emulation only so far). compare takes the list gpu,exact: HAVS and the ray caster in both modes, side by "
-                   "side");
+                   "HAVS, VICP, ray caster: gpu (the rasterizer's interpolated varyings, the seed's pipeline; "
+                   "default) | exact (the fragment's values in double from the ray through the pixel centre). compare "
+                   "takes the list gpu,exact: each algorithm in both modes, side by side");
     cmd.add_option("--entries", o.entries,
                    "HAVS: marked (exit, entry and extrapolated fragments told apart; default) | seed (the seed's "
                    "program as printed: the scalar itself, exit faces negative; the default with --backend arb)");
@@ -513,7 +512,7 @@ std::vector<Algorithm> make_registry()
 
     r.push_back({"vicp", Inputs::mesh, {"emu", "gl"}, [](const AlgoOptions& a) { vicp_options(a); },
                  [](const AlgoOptions& a) {
-                     return "vicp-" + a.backend + "-" + a.order + (a.interpolation == "gpu" ? "-seed-interpolation" : "");
+                     return "vicp-" + a.backend + "-" + a.order + (a.interpolation == "exact" ? "-exact-interpolation" : "");
                  },
                  [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
                      return std::make_unique<VicpRendererEntry>(s, a);

@@ -34,7 +34,7 @@ struct BenchArgs {
     std::string backends = "emu";
     std::string orders = "mpvonc,centroid";
     std::string gl = "osmesa";
-    std::string interpolation;  // HAVS, ray caster: gpu (default) | exact
+    std::string interpolation;  // HAVS, VICP, ray caster: gpu (default) | exact
     std::string entries;        // HAVS: marked | seed (empty: the backend's default)
     std::size_t arb_draw = 0;   // --backend arb: triangles per draw
     bool arb_barrier = false;   // --backend arb: a texture barrier after each draw
@@ -118,7 +118,7 @@ void register_bench(CLI::App& app)
     cmd->add_option("--orders,--order", a->orders, "VICP: comma-separated cell orders (mpvonc, centroid)")
         ->capture_default_str();
     cmd->add_option("--interpolation", a->interpolation,
-                    "HAVS, ray caster: gpu (the seed's interpolated varyings; default) | exact (in double from the pixel's ray)");
+                    "HAVS, VICP, ray caster: gpu (the seed's interpolated varyings; default) | exact (in double from the pixel's ray)");
     cmd->add_option("--entries", a->entries, "HAVS: marked | seed (default: seed with arb, else marked)");
     cmd->add_option("--arb-draw", a->arb_draw, "With the arb backend: triangles per draw call (0: 131072)");
     cmd->add_flag("--arb-barrier", a->arb_barrier, "With the arb backend: a texture barrier after every draw call");
@@ -170,8 +170,8 @@ void register_bench(CLI::App& app)
                 if (std::find(algo.backends.begin(), algo.backends.end(), b) == algo.backends.end()) continue;
                 AlgoOptions o = base;
                 o.backend = b;
-                if (x == "raycast") o.interpolation = a->interpolation;
-                if (x == "havs") {  // VICP has one mode until issue 25
+                if (x == "raycast" || x == "vicp") o.interpolation = a->interpolation;
+                if (x == "havs") {
                     o.interpolation = a->interpolation;
                     o.entries = a->entries;
                     o.arb_draw = a->arb_draw;

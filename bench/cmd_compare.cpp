@@ -57,7 +57,7 @@ nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos
             throw InputError("", "--interpolation takes gpu, exact or the list gpu,exact");
     // Each algorithm's options in each of its modes, before any output.
     const auto modes_of = [&](const std::string& algo) {
-        return (algo == "havs" || algo == "raycast") && listed_modes.size() > 1
+        return (algo == "havs" || algo == "vicp" || algo == "raycast") && listed_modes.size() > 1
                    ? listed_modes
                    : std::vector<std::string>{listed_modes.size() > 1 ? std::string() : o.interpolation};
     };
@@ -98,8 +98,8 @@ nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos
     add("reference", ref, "reference");
     for (const auto& algo : algos) {
         if (algo == "reference") continue;
-        // --interpolation gpu,exact renders HAVS and the ray caster once per mode, side by side; the others then take
-        // their default.
+        // --interpolation gpu,exact renders HAVS, VICP and the ray caster once per mode, side by side; the reference
+        // has none.
         for (const std::string& mode : modes_of(algo)) {
             AlgoOptions om = o;
             om.interpolation = mode;

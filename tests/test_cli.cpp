@@ -279,7 +279,7 @@ TEST_CASE("uvr render --algo vicp renders the reference's image with exact segme
     SECTION("exact segments and MPVONC: the reference's image, and the order's figures in the JSON")
     {
         const CommandResult ref = run_uvr(scene + "--algo reference --out '" + tmp.file("ref.npy") + "'");
-        const CommandResult vicp = run_uvr(scene + "--algo vicp --segment exact --order mpvonc --json --diagnostics '" +
+        const CommandResult vicp = run_uvr(scene + "--algo vicp --segment exact --interpolation exact --order mpvonc --json --diagnostics '" +
                                            tmp.file("diag") + "' --out '" + tmp.file("vicp.npy") + "'");
         INFO(ref.err << vicp.err);
         REQUIRE(ref.exit_code == 0);
@@ -308,7 +308,14 @@ TEST_CASE("uvr render --algo vicp renders the reference's image with exact segme
             CHECK(file_contents(tmp.file("gl.npy")) == file_contents(tmp.file("emu.npy")));
             for (const char* d : {"fragments.npy", "ordering_errors.npy"})
                 CHECK(file_contents(tmp.file(order) + "-gl/" + d) == file_contents(tmp.file(order) + "-emu/" + d));
-            CHECK_THAT(nlohmann::json::parse(gl.out)["gl"].get<std::string>(), Catch::Contains("llvmpipe"));
+            const auto j = nlohmann::json::parse(gl.out);
+            CHECK_THAT(j["gl"].get<std::string>(), Catch::Contains("llvmpipe"));
+            // The seed's pipeline by default: ProjectTet's 528 bytes a drawn cell; the wrong-exit diagnostic is the
+            // emulation's alone (null on GL).
+            CHECK(j["interpolation"] == "gpu");
+            CHECK(j["bytes_sent_per_tet"].get<double>() ==
+                  528.0 * j["drawn_cells"].get<double>() / j["cells"].get<double>());
+            CHECK(j["wrong_exits"].is_null());
         }
     }
     SECTION("refusals: exact segments on GL, an unknown order")

@@ -77,7 +77,7 @@ TEST_CASE("uvr compare writes the images, error maps, metrics.json and a page wh
     unsetenv("UVR_CACHE_DIR");
 }
 
-TEST_CASE("uvr compare --interpolation gpu,exact shows HAVS in both modes side by side")
+TEST_CASE("uvr compare --interpolation gpu,exact shows HAVS and VICP in both modes side by side")
 {
     TempDir tmp("compare-modes");
     setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
@@ -87,15 +87,20 @@ TEST_CASE("uvr compare --interpolation gpu,exact shows HAVS in both modes side b
     INFO(r.err);
     REQUIRE(r.exit_code == 0);
     const auto m = nlohmann::json::parse(uvr::test::file_contents(dir + "/metrics.json"));
-    // The reference, HAVS twice, VICP once (its only mode).
-    REQUIRE(m["results"].size() == 4);
+    // The reference, HAVS twice, VICP twice.
+    REQUIRE(m["results"].size() == 5);
     CHECK(m["results"][1]["label"] == "havs-emu-k6");
     CHECK(m["results"][1]["stats"]["interpolation"] == "gpu");
     CHECK(m["results"][2]["label"] == "havs-emu-k6-exact-interpolation");
     CHECK(m["results"][2]["stats"]["interpolation"] == "exact");
-    CHECK(m["results"][3]["stats"]["interpolation"] == "exact");
+    CHECK(m["results"][3]["label"] == "vicp-emu-mpvonc");
+    CHECK(m["results"][3]["stats"]["interpolation"] == "gpu");
+    CHECK(m["results"][4]["label"] == "vicp-emu-mpvonc-exact-interpolation");
+    CHECK(m["results"][4]["stats"]["interpolation"] == "exact");
     // The two modes are different images of one scene.
     CHECK(read_npy(dir + "/havs-emu-k6.npy").rgba != read_npy(dir + "/havs-emu-k6-exact-interpolation.npy").rgba);
+    CHECK(read_npy(dir + "/vicp-emu-mpvonc.npy").rgba !=
+          read_npy(dir + "/vicp-emu-mpvonc-exact-interpolation.npy").rgba);
     const auto bad = run_uvr("compare builtin:torus-small --algos havs --interpolation gpu,linear --size 48x40 "
                              "--report '" + tmp.file("bad") + "'");
     CHECK(bad.exit_code != 0);

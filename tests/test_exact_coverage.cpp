@@ -161,6 +161,7 @@ TEST_CASE("with exact coverage and every other switch exact, HAVS and VICP equal
             vo.segment = SegmentMode::exact;
             vo.threshold = 1.0f;
             vo.coverage = Coverage::exact;
+            vo.interpolation = InterpolationMode::exact;
             const VicpFrame v = VicpRenderer(s.mesh, s.topo, s.field, s.tf, vo).render(cam, size, size);
             const test::ImageErrors ev = test::image_errors(v.image, ref, kExactMax);
             INFO("VICP: RMSE " << ev.rmse << ", max " << ev.max_abs << ", pixels over " << kExactMax << ": " << ev.over);

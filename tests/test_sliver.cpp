@@ -102,6 +102,7 @@ TEST_CASE("a mesh with a sliver of 1e-12 volume: every algorithm gives a finite 
             }
         VicpOptions vo;
         vo.segment = SegmentMode::exact;
+        vo.interpolation = InterpolationMode::exact;
         const VicpFrame vicp = VicpRenderer(s.mesh, s.topo, s.field, s.tf, vo).render(cam, size, size);
         const HavsFrame havs =
             HavsRenderer(s.mesh, s.topo, s.field, s.tf, test::exact_havs_options(test::kConvergenceK)).render(cam, size, size);

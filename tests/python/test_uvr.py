@@ -90,17 +90,20 @@ def test_options_reach_the_renderer(tmp_path):
     assert every_info["stats"]["send"] == "all" and every_info["stats"]["clip"]["uncovered"] == 0
     assert covered_info["stats"]["send"] == "covered" and covered_info["stats"]["clip"]["uncovered"] > 0
     assert same_bits(every, covered)
-    # interpolation reaches the ray caster (the seed's passes by default) and VICP (exact by default; gpu emulated).
+    # interpolation reaches the ray caster and VICP (the seeds' pipelines by default, the exact variants by name).
     volume = uvr.Scene("builtin:torus-volume", **SMALL)
     ray_exact, ray_info = uvr.render(volume, "raycast", interpolation="exact", with_stats=True)
     assert ray_info["stats"]["interpolation"] == "exact" and "box" not in ray_info["stats"]
     assert same_bits(ray_exact, program_image(tmp_path, "builtin:torus-volume", "raycast", *SMALL_ARGS,
                                               "--interpolation", "exact"))
     assert uvr.render(volume, "raycast", with_stats=True)[1]["stats"]["interpolation"] == "gpu"
-    vicp_seed, vicp_info = uvr.render(scene, "vicp", interpolation="gpu", with_stats=True)
+    vicp_seed, vicp_info = uvr.render(scene, "vicp", with_stats=True)
     assert vicp_info["stats"]["interpolation"] == "gpu" and "wrong_exits" in vicp_info["stats"]
-    assert same_bits(vicp_seed, program_image(tmp_path, "builtin:torus-small", "vicp", *SMALL_ARGS,
-                                              "--interpolation", "gpu"))
+    assert same_bits(vicp_seed, program_image(tmp_path, "builtin:torus-small", "vicp", *SMALL_ARGS))
+    vicp_exact, vicp_exact_info = uvr.render(scene, "vicp", interpolation="exact", with_stats=True)
+    assert vicp_exact_info["stats"]["interpolation"] == "exact" and "wrong_exits" not in vicp_exact_info["stats"]
+    assert same_bits(vicp_exact, program_image(tmp_path, "builtin:torus-small", "vicp", *SMALL_ARGS,
+                                               "--interpolation", "exact"))
 
 
 def cube_arrays():
