@@ -41,8 +41,9 @@ void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
     cmd.add_option("--arb-draw", o.arb_draw, "With --backend arb: triangles per draw call (0: 131072)");
     cmd.add_flag("--arb-barrier", o.arb_barrier, "With --backend arb: a texture barrier after every draw call");
     cmd.add_option("--send", o.send,
-                   "HAVS with --backend gl or arb: covered (the CPU sends the triangles that cover a pixel; the same "
-                   "image) | all (every face, as the seed does)")
+                   "HAVS with --backend gl or arb, VICP on gl: covered (the CPU sends the triangles that make "
+                   "fragments: those that cover a pixel, for VICP front-facing; the same image) | all (every face, as "
+                   "the seeds do)")
         ->capture_default_str();
     cmd.add_option("--threshold", o.threshold, "Early-termination opacity (HAVS 0.99, VICP 1; 1 switches it off)");
     cmd.add_option("--table-size", o.table_size, "HAVS: pre-integration table texels per axis")->capture_default_str();
@@ -136,6 +137,7 @@ gpu::VicpOptions vicp_options(const AlgoOptions& a)
     o.table_size = t.table_size;
     o.table_format = t.table_format;
     o.coverage = coverage_option(a);
+    if (a.send != "covered" && a.send != "all") throw InputError("", "--send must be covered or all");
     return o;
 }
 
@@ -347,6 +349,7 @@ public:
         }
         ctx_ = std::make_unique<gpu::GlContext>(gpu::parse_gl_platform(a.gl));
         gl_ = std::make_unique<gpu::GlVicpRenderer>(*ctx_, s.mesh(), *s.topology, s.field, s.tf, o);
+        gl_->set_submission(submission(a));
     }
 
     AlgoResult render(const Camera& camera, int width, int height) override
@@ -367,7 +370,7 @@ public:
                    {"cycle_breaks", st.order.cycle_breaks},
                    {"face_dependencies", st.order.face_dependencies},
                    {"ray_dependencies", st.order.ray_dependencies},
-                   {"bytes_sent_per_tet", gpu::vicp_sent_bytes_per_cell(vm)},
+                   {"bytes_sent_per_tet", gpu::vicp_sent_bytes_per_cell(vm, st.sent_faces)},
                    {"seed_bytes_sent_per_tet", gpu::kSeedBytesSentPerCell},
                    {"resident_bytes_per_tet", gpu::vicp_resident_bytes_per_cell(vm)},
                    {"table_ms", st.table_ms},
@@ -382,6 +385,8 @@ public:
             r.stats["wrong_exits"] = emu_ ? nlohmann::json(st.wrong_exits) : nlohmann::json();
             r.stats["max_length_error"] = emu_ ? nlohmann::json(st.max_length_error) : nlohmann::json();
             r.stats["exact_cut_cells"] = st.clipped_cells;  // drawn by the exact variant (docs/vicp.md)
+            r.stats["sent_faces"] = st.sent_faces;
+            if (gl_) r.stats["send"] = a_.send;
         }
         if (ctx_) r.stats["gl"] = ctx_->info().summary();
         r.image = std::move(f.image);

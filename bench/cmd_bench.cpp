@@ -38,7 +38,7 @@ struct BenchArgs {
     std::string entries;        // HAVS: marked | seed (empty: the backend's default)
     std::size_t arb_draw = 0;   // --backend arb: triangles per draw
     bool arb_barrier = false;   // --backend arb: a texture barrier after each draw
-    std::string send = "covered";  // HAVS on gl and arb: covered | all (AlgoOptions::send)
+    std::string send = "covered";  // HAVS on gl and arb, VICP on gl: covered | all (AlgoOptions::send)
     bool json = false;
 };
 
@@ -123,7 +123,7 @@ void register_bench(CLI::App& app)
     cmd->add_option("--arb-draw", a->arb_draw, "With the arb backend: triangles per draw call (0: 131072)");
     cmd->add_flag("--arb-barrier", a->arb_barrier, "With the arb backend: a texture barrier after every draw call");
     cmd->add_option("--send", a->send,
-                    "HAVS on the gl and arb backends: covered (the triangles that cover a pixel) | all (every face)")
+                    "HAVS on the gl and arb backends, VICP on gl: covered (the triangles that make fragments) | all (every face)")
         ->capture_default_str();
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     cmd->callback([a] {
@@ -171,6 +171,7 @@ void register_bench(CLI::App& app)
                 AlgoOptions o = base;
                 o.backend = b;
                 if (x == "raycast" || x == "vicp") o.interpolation = a->interpolation;
+                if (x == "vicp") o.send = a->send;
                 if (x == "havs") {
                     o.interpolation = a->interpolation;
                     o.entries = a->entries;

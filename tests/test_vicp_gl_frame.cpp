@@ -121,6 +121,33 @@ TEST_CASE("the GL VICP frame equals the emulated frame bit for bit")
     }
 }
 
+TEST_CASE("the GL VICP frame under the seed is the same whether ProjectTet sends every face or only those that make "
+          "fragments")
+{
+    // --send all is the seed's stream (four faces a cell, back faces dropped by the fragment program); covered, the
+    // default, sends the faces llvmpipe's setup finds front-facing that cover a pixel (vicp_sent_faces): the same
+    // fragments, so the same bits, and the emulation counts the same faces.
+    const Scene s = test::blunt_fin();
+    const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, -40.0, 70.0);
+    VicpOptions o = options(CellOrder::mpvonc);
+    const VicpFrame emu = VicpRenderer(s.mesh, s.topo, s.field, s.tf, o).render(cam, 256, 192);
+    GlVicpRenderer gl(osmesa(), s.mesh, s.topo, s.field, s.tf, o);
+    const VicpFrame covered = gl.render(cam, 256, 192);
+    gl.set_submission(TriangleSubmission::all);
+    const VicpFrame all = gl.render(cam, 256, 192);
+    INFO("faces sent: covered " << covered.stats.sent_faces << ", all " << all.stats.sent_faces << ", emulation "
+                                << emu.stats.sent_faces << "; " << emu.stats.drawn_cells << " cells drawn");
+    CHECK(all.stats.sent_faces == 4 * all.stats.drawn_cells);
+    CHECK(covered.stats.sent_faces == emu.stats.sent_faces);
+    CHECK(covered.stats.sent_faces < all.stats.sent_faces / 2);  // about one face and a half a cell is front-facing
+    for (const VicpFrame* f : {&covered, &all}) {
+        const FrameDiff d = diff(*f, emu);
+        INFO(d.differing << " of " << d.pixels << " pixels differ; " << d.first);
+        CHECK(d.differing == 0);
+        CHECK(d.diagnostics_differ == 0);
+    }
+}
+
 TEST_CASE("the GL VICP frame through EGL equals the emulated frame bit for bit")
 {
     // Without a GPU, EGL gives Mesa's software device: the same llvmpipe as OSMesa, reached another way.

@@ -158,12 +158,6 @@ void for_each_triangle(const HavsMesh& hm, const HavsFrameSetup& fs, const uint3
     });
 }
 
-// Which of a frame's triangles a GL driver sends (--send): those that cover a pixel under the rasterizer's snapped
-// coverage, or every one, as the seed does. A triangle that covers no pixel makes no fragment, so the frame's bits are
-// the same either way; llvmpipe would set it up and bin it for nothing (docs/gl-backend.md, "Triangles that cover no
-// pixel").
-enum class TriangleSubmission { covered, all };
-
 // The draw ids of fs.draw[first, first + count) that `submission` sends, in drawing order, into `out`. With covered,
 // a triangle is left out when setup_triangle and covers_any_pixel find no pixel, except when the GPU would clip a
 // vertex of the frame (fs.gpu_clipped): its coverage is not the emulation's there, and every triangle is sent.

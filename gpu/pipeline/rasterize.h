@@ -93,6 +93,12 @@ void row_span(const TriangleSetup& s, int py, int& first, int& last);
 // Whether the triangle covers at least one pixel (the union of row_span over its bounding box is not empty). A
 // triangle that covers none makes no fragment: llvmpipe bins and sets it up for nothing.
 bool covers_any_pixel(const TriangleSetup& s);
+
+// Which of a frame's triangles a GL driver sends (--send, HAVS and VICP): those that make fragments (they cover a pixel
+// under the rasterizer's snapped coverage; for VICP, front-facing too), or every one, as the seeds do. A triangle that
+// makes no fragment changes no bit of the frame; llvmpipe would set it up, bin it and (VICP's back faces) shade it for
+// nothing (docs/gl-backend.md, "Triangles that cover no pixel"; docs/vicp.md, "Culling").
+enum class TriangleSubmission { covered, all };
 // A quick test before setup_triangle: false when no pixel centre lies within the bounding box of the snapped vertices,
 // so that the triangle covers no pixel; true when it may (covers_any_pixel decides).
 bool may_cover_pixel(const WindowCoord v[3]);

@@ -1,9 +1,13 @@
 #include "gpu/vicp/gl_vicp.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <string>
 #include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "gpu/gl/gl_framebuffer.h"
 #include "gpu/gl/gl_preintegration_table.h"
@@ -69,6 +73,8 @@ struct GlVicpRenderer::Objects {
     std::unique_ptr<GlProgram> seed_program;
     GLuint seed_vao = 0, seed_vbo = 0;
     std::vector<VicpSeedVertex> records;  // the chunk being sent
+    std::vector<uint32_t> first_face;
+    std::vector<uint8_t> faces;
     GLuint table_texture = 0;
     std::unique_ptr<GlFloatFramebuffer> framebuffer;  // colour, diagnostics
 
@@ -215,8 +221,10 @@ void GlVicpRenderer::draw_exact(const VicpFrameSetup& fs, std::size_t begin, std
     }
 }
 
-// The seed's program over stream slots [begin, end), all whole cells: ProjectTet's records of a chunk of cells
-// (12 vertices a cell) sent as vertex attributes, then drawn; the chunk bounds what the GPU holds of them.
+// The seed's program over stream slots [begin, end), all whole cells: ProjectTet's records of a chunk of cells sent as
+// vertex attributes (three vertices a sent face, vicp_sent_faces), then drawn; the chunk bounds what the GPU holds of
+// them. The records are filled in parallel, each cell at its place in the stream's order (a prefix sum of the faces
+// sent), so the draw does not depend on the thread count.
 void GlVicpRenderer::draw_seed(const VicpFrameSetup& fs, std::size_t begin, std::size_t end, VicpStats& st)
 {
     const GlFunctions& gl = ctx_.gl();
@@ -225,13 +233,33 @@ void GlVicpRenderer::draw_seed(const VicpFrameSetup& fs, std::size_t begin, std:
     gl.BindBuffer(GL_ARRAY_BUFFER, gl_->seed_vbo);
     const std::size_t chunk = cells_per_draw_ ? cells_per_draw_ : kSeedCellsPerDraw;
     std::vector<VicpSeedVertex>& records = gl_->records;
+    std::vector<uint32_t>& first = gl_->first_face;  // per cell of the chunk: its first sent face; then the total
+    std::vector<uint8_t>& faces = gl_->faces;        // per cell of the chunk: vicp_sent_faces
     for (std::size_t c0 = begin; c0 < end; c0 += chunk) {
         const std::size_t n = std::min(chunk, end - c0);
         auto t0 = Clock::now();
-        records.resize(kVicpVerticesPerTet * n);
-        for (std::size_t i = 0; i < n; ++i)
-            mesh_.seed_records(fs.stream[c0 + i], fs.points_f, &records[kVicpVerticesPerTet * i]);
+        faces.resize(n);
+        first.resize(n + 1);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i)
+                faces[i] = uint8_t(vicp_sent_faces(fs, fs.stream[c0 + i], submission_));
+        });
+        first[0] = 0;
+        for (std::size_t i = 0; i < n; ++i) first[i + 1] = first[i] + uint32_t(std::popcount(unsigned(faces[i])));
+        records.resize(3 * std::size_t(first[n]));
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
+            VicpSeedVertex cell[kVicpVerticesPerTet];
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                if (!faces[i]) continue;
+                mesh_.seed_records(fs.stream[c0 + i], fs.points_f, cell);
+                VicpSeedVertex* out = &records[3 * std::size_t(first[i])];
+                for (int f = 0; f < 4; ++f)
+                    if (faces[i] & (1u << f)) out = std::copy(cell + 3 * f, cell + 3 * f + 3, out);
+            }
+        });
+        st.sent_faces += first[n];
         st.project_ms += ms_since(t0);
+        if (records.empty()) continue;
         t0 = Clock::now();
         gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(records.size() * sizeof(VicpSeedVertex)), records.data(),
                       GL_STREAM_DRAW);

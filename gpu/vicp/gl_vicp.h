@@ -39,6 +39,10 @@ public:
 
     const VicpMesh& cpu_stage() const { return mesh_; }
 
+    // --send (--interpolation gpu): the faces that make fragments (covered, the default) or all four of every cell, as
+    // the seed sends them (vicp_sent_faces). The frame's bits are the same.
+    void set_submission(TriangleSubmission s) { submission_ = s; }
+
     // Cells a seed draw sends (--interpolation gpu): 16,384 cells are 8.6 MB of records (528 bytes a cell), which the
     // GPU holds whatever the mesh's size.
     static constexpr std::size_t kSeedCellsPerDraw = 16384;
@@ -50,6 +54,7 @@ private:
     GlContext& ctx_;
     VicpMesh mesh_;
     std::size_t cells_per_draw_ = 0;
+    TriangleSubmission submission_ = TriangleSubmission::covered;
     std::unique_ptr<Objects> gl_;
 };
 

@@ -1,7 +1,12 @@
 #include "gpu/vicp/vicp.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
+#include <functional>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 #include <cmath>
 #include <cstring>
 
@@ -256,6 +261,18 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
         }
     });
     st.raster_fragment_ms = ms_since(t0);
+
+    // What the GL driver would send under its default (--send covered): the faces that make fragments.
+    if (seed)
+        st.sent_faces = tbb::parallel_reduce(
+            tbb::blocked_range<std::size_t>(0, stream.size()), uint64_t(0),
+            [&](const tbb::blocked_range<std::size_t>& r, uint64_t n) {
+                for (std::size_t slot = r.begin(); slot != r.end(); ++slot)
+                    if (cut_index(uint32_t(slot)) == kWholeCell)
+                        n += uint64_t(std::popcount(vicp_sent_faces(fs, stream[slot], TriangleSubmission::covered)));
+                return n;
+            },
+            std::plus<uint64_t>());
 
     store_vicp_frame(fb, diag, width, height, out);
     if (seed) {

@@ -28,6 +28,9 @@ struct VicpStats {
     // --interpolation gpu (emulation): fragments whose smallest positive distance picked another face than the exact
     // crossing's exit (the seed's wrong exits, docs/vicp.md "The seed's pipeline").
     uint64_t wrong_exits = 0;
+    // --interpolation gpu: the faces ProjectTet sends (vicp_sent_faces; the emulation counts the GL driver's default,
+    // covered).
+    uint64_t sent_faces = 0;
     double max_length_error = 0.0;  // the largest |interpolated - exact| segment length of a fragment (world units)
 };
 

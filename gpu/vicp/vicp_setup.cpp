@@ -95,6 +95,22 @@ void VicpMesh::seed_records(const VicpCell& cell, const std::vector<glm::vec3>& 
         }
 }
 
+unsigned vicp_sent_faces(const VicpFrameSetup& fs, const VicpCell& cell, TriangleSubmission submission)
+{
+    if (submission == TriangleSubmission::all || fs.gpu_clipped) return 0xFu;
+    const Framebuffer fbuf{fs.width, fs.height, RenderTarget::fbo};
+    unsigned faces = 0;
+    for (int f = 0; f < 4; ++f) {
+        const WindowCoord wv[3] = {fs.win[cell.v[std::size_t(kVicpCorner[f][0])]],
+                                   fs.win[cell.v[std::size_t(kVicpCorner[f][1])]],
+                                   fs.win[cell.v[std::size_t(kVicpCorner[f][2])]]};
+        if (!may_cover_pixel(wv)) continue;
+        const TriangleSetup ts = setup_triangle(wv, fbuf);
+        if (!ts.empty() && ts.facing == Facing::front && covers_any_pixel(ts)) faces |= 1u << f;
+    }
+    return faces;
+}
+
 VicpSeedView vicp_seed_view(const Camera& cam)
 {
     return VicpSeedView{cam.orthographic ? 1 : 0, glm::vec3(camera_frame(cam).f)};
@@ -106,10 +122,10 @@ double vicp_resident_bytes_per_cell(const VicpMesh& vm)
     return per_point * double(vm.points_d().size()) / double(vm.mesh().tets.size());
 }
 
-double vicp_sent_bytes_per_cell(const VicpMesh& vm)
+double vicp_sent_bytes_per_cell(const VicpMesh& vm, uint64_t sent_faces)
 {
     if (vm.options().interpolation == InterpolationMode::gpu)
-        return double(kSeedBytesSentPerCell) * double(vm.drawn_cells()) / double(vm.mesh().tets.size());
+        return double(kSeedBytesSentPerFace) * double(sent_faces) / double(vm.mesh().tets.size());
     const double per_point = 3.0 * sizeof(double) + sizeof(glm::vec3);
     return (double(sizeof(VicpCell)) * double(vm.drawn_cells()) + per_point * double(vm.points_d().size())) /
            double(vm.mesh().tets.size());

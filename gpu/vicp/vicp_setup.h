@@ -113,6 +113,12 @@ struct VicpFrameSetup {
     std::size_t fan_triangles() const { return fans.size() / 4; }
 };
 
+// The faces of a stream cell ProjectTet sends under --interpolation gpu (bit f: face f, kVicpCorner's order): with
+// covered, those llvmpipe's setup finds front-facing (its fixed-point area, the emulation's Facing) that cover a pixel,
+// the only ones that make fragments; with all, the four, as the seed does (the fragment program drops back faces on
+// gl_FrontFacing). All four too when the GPU would clip a vertex of the frame (fs.gpu_clipped), as HAVS does.
+unsigned vicp_sent_faces(const VicpFrameSetup& fs, const VicpCell& cell, TriangleSubmission submission);
+
 // The view the seed's vertex program takes (--interpolation gpu): the camera's projection and viewing direction.
 VicpSeedView vicp_seed_view(const Camera& camera);
 
@@ -121,10 +127,12 @@ VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& camera, int wi
 
 // What the GPU holds per cell: resident (positions in double and scalars, per point; amortized over cells) and sent
 // per frame: with --interpolation exact ProjectTet's stream, 20 bytes a cell, the snapped points in double, 24 bytes a
-// point, and the vertex buffer, 12 bytes a point; with gpu the seed's records, 528 bytes a drawn cell. The cells a
-// view cuts (their fans, and with gpu the exact program's per-frame buffers) are not counted.
-inline constexpr std::size_t kSeedBytesSentPerCell = 132 * sizeof(float);  // seed 003's count
-double vicp_sent_bytes_per_cell(const VicpMesh& vm);
+// point, and the vertex buffer, 12 bytes a point; with gpu the seed's records, 132 bytes a sent face (`sent_faces`
+// of the frame: vicp_sent_faces). The cells a view cuts (their fans, and with gpu the exact program's per-frame
+// buffers) are not counted.
+inline constexpr std::size_t kSeedBytesSentPerFace = 33 * sizeof(float);
+inline constexpr std::size_t kSeedBytesSentPerCell = 4 * kSeedBytesSentPerFace;  // seed 003's count, 528
+double vicp_sent_bytes_per_cell(const VicpMesh& vm, uint64_t sent_faces);
 double vicp_resident_bytes_per_cell(const VicpMesh& vm);
 
 }  // namespace uvr::gpu
