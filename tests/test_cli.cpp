@@ -310,11 +310,15 @@ TEST_CASE("uvr render --algo vicp renders the reference's image with exact segme
                 CHECK(file_contents(tmp.file(order) + "-gl/" + d) == file_contents(tmp.file(order) + "-emu/" + d));
             const auto j = nlohmann::json::parse(gl.out);
             CHECK_THAT(j["gl"].get<std::string>(), Catch::Contains("llvmpipe"));
-            // The seed's pipeline by default: ProjectTet's 528 bytes a drawn cell; the wrong-exit diagnostic is the
-            // emulation's alone (null on GL).
+            // The seed's pipeline by default: ProjectTet's 132 bytes a face, for the faces that make fragments
+            // (--send covered; the seed's 528 a cell with --send all); the wrong-exit diagnostic is the emulation's
+            // alone (null on GL).
             CHECK(j["interpolation"] == "gpu");
+            CHECK(j["send"] == "covered");
+            CHECK(j["sent_faces"].get<double>() > 0.0);
+            CHECK(j["sent_faces"].get<double>() < 2.0 * j["drawn_cells"].get<double>());
             CHECK(j["bytes_sent_per_tet"].get<double>() ==
-                  528.0 * j["drawn_cells"].get<double>() / j["cells"].get<double>());
+                  132.0 * j["sent_faces"].get<double>() / j["cells"].get<double>());
             CHECK(j["wrong_exits"].is_null());
         }
     }
