@@ -392,6 +392,7 @@ public:
         r.image = std::move(f.image);
         r.fragments = std::move(f.fragments);
         r.ordering_errors = std::move(f.ordering_errors);
+        r.wrong_exits = std::move(f.wrong_exits);
         return r;
     }
 

@@ -67,8 +67,9 @@ struct AlgoResult {
     bool cached = false;  // reference taken from the cache
     // Options in effect, counters, "stages_ms" (stage name -> milliseconds of this frame) and, on GL, "gl".
     nlohmann::json stats;
-    // Diagnostics, SPEC row order: HAVS all three, VICP fragments and ordering errors, the ray caster's samples.
-    std::vector<uint32_t> fragments, max_held, ordering_errors, samples;
+    // Diagnostics, SPEC row order: HAVS all three, VICP fragments and ordering errors (and, with the seed's
+    // interpolation emulated, its wrong exits), the ray caster's samples.
+    std::vector<uint32_t> fragments, max_held, ordering_errors, samples, wrong_exits;
 };
 
 // An algorithm made for one scene on one backend; render() may be called again and again (bench times it).

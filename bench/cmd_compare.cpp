@@ -28,13 +28,6 @@ struct CompareArgs {
     bool json = false;
 };
 
-nlohmann::json measures_json(const ErrorMeasures& e)
-{
-    return {{"rmse", e.rmse}, {"max_abs", e.max_abs},
-            {"psnr", std::isfinite(e.psnr) ? nlohmann::json(e.psnr) : nlohmann::json(nullptr)},
-            {"visible_fraction", e.visible_fraction}, {"covered_left_empty", e.covered_left_empty}};
-}
-
 }  // namespace
 
 nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos, const AlgoOptions& o,

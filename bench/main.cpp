@@ -20,6 +20,7 @@ int main(int argc, char** argv)
     register_export(app);
     register_compare(app);
     register_sweep(app);
+    register_budget(app);
     register_demo(app);
     try {
         app.parse(argc, argv);

@@ -8,6 +8,13 @@
 
 namespace uvr::cli {
 
+nlohmann::json measures_json(const ErrorMeasures& e)
+{
+    return {{"rmse", e.rmse}, {"max_abs", e.max_abs},
+            {"psnr", std::isfinite(e.psnr) ? nlohmann::json(e.psnr) : nlohmann::json(nullptr)},
+            {"visible_fraction", e.visible_fraction}, {"covered_left_empty", e.covered_left_empty}};
+}
+
 std::string html_escape(const std::string& s)
 {
     std::string o;

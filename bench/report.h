@@ -6,13 +6,21 @@
 
 #include <nlohmann/json.hpp>
 
+#include "reference/error_measures.h"
+
 namespace uvr::cli {
+
+// SPEC §4's measures as a run's JSON has them (psnr null for identical images).
+nlohmann::json measures_json(const ErrorMeasures& e);
 
 // Writes DIR/index.html for a compare report described by `metrics` (the content of metrics.json).
 void write_compare_page(const std::string& dir, const nlohmann::json& metrics);
 
 // Writes DIR/index.html for a sweep report (the content of sweep.json); `plots` says whether the PNG plots exist.
 void write_sweep_page(const std::string& dir, const nlohmann::json& sweep, bool plots);
+
+// Writes DIR/index.html for a budget report (the content of budget.json); `chart` says whether budget.png exists.
+void write_budget_page(const std::string& dir, const nlohmann::json& budget, bool chart);
 
 // Writes DIR/index.html for `uvr demo`: `page` has "parts" (each a compare report: "title", "page", "results" as in
 // metrics.json with image paths relative to DIR and, on GL and ARB rows, "same_bits" / "same_bits_as"; or

@@ -1,0 +1,40 @@
+// `uvr budget`'s parts (SPEC §7): the baseline's options, the factors, and the whole run; the command is
+// bench/cmd_budget.cpp, the page bench/report.cpp (write_budget_page). docs/budget.md.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/algorithms.h"
+
+namespace uvr::cli {
+
+// The baseline's k for HAVS: more than any tested scene puts on one pixel (tests/havs_convergence.h's 255), so the
+// k-buffer never holds a fragment out of order.
+inline constexpr int kBudgetBaselineK = 255;
+// How far the baseline may differ from the reference (largest channel error) and still count as equal to float32
+// precision: with every switch exact HAVS and VICP leave at most 9e-7 on the hardest views measured
+// (tests/test_exact_coverage.cpp, docs/havs.md "Convergence on many views"), whose bar this is.
+inline constexpr double kBudgetBaselineMax = 2e-6;
+
+// One cause of error: its name (SPEC §7's key), what it is (a sentence for the page), and how its run differs from
+// the baseline: `apply` sets the one switch of `run` (the baseline's options) to the user's value.
+struct BudgetFactor {
+    std::string name, what;
+    std::function<void(AlgoOptions& run, const AlgoOptions& user)> apply;
+};
+std::vector<BudgetFactor> budget_factors(const std::string& algo);
+
+// The user's options with every switch exact: the baseline.
+AlgoOptions budget_baseline(const std::string& algo, const AlgoOptions& user);
+
+// The reference, the baseline, one run per factor and the user's configuration on scene `s`, each measured against
+// the reference and written to `dir` (runs/NAME.npy, .png and -error.png; budget.json; the chart; index.html).
+// Every run's options are checked before anything is written. Returns budget.json's object.
+nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOptions& options, const std::string& dir,
+                          const std::string& mesh_name);
+
+}  // namespace uvr::cli

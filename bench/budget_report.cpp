@@ -1,0 +1,77 @@
+// The page of a `uvr budget` report (write_budget_page, bench/report.h): the budget as a table and a chart, each
+// factor's error heat map beside the total's, a sentence per factor. Self-contained, opened from the file system.
+#include <cstdio>
+
+#include "bench/report.h"
+#include "reference/io_util.h"
+
+namespace uvr::cli {
+
+namespace {
+
+std::string row(const std::string& name, const nlohmann::json& j, const std::string& what)
+{
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "<td>%.3g</td><td>%.3g</td><td>%.4f</td>", j["rmse"].get<double>(),
+                  j["max_abs"].get<double>(), j["visible_fraction"].get<double>());
+    return "<tr><th>" + html_escape(name) + "</th>" + buf + "<td class=\"what\">" + html_escape(what) + "</td></tr>\n";
+}
+
+std::string figure(const std::string& name, const nlohmann::json& j)
+{
+    const std::string image = j["image"].get<std::string>();
+    const std::string png = image.substr(0, image.size() - 4) + ".png";
+    return "<figure><img src=\"" + html_escape(j["error_map"].get<std::string>()) + "\" alt=\"" + html_escape(name) +
+           " error\"><img src=\"" + html_escape(png) + "\" alt=\"" + html_escape(name) + " image\"><figcaption>" +
+           html_escape(name) + "</figcaption></figure>\n";
+}
+
+}  // namespace
+
+void write_budget_page(const std::string& dir, const nlohmann::json& b, bool chart)
+{
+    const std::string algo = b["algo"].get<std::string>();
+    std::string h = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>uvr budget: " +
+                    html_escape(algo) + ", " + html_escape(b["mesh"].get<std::string>()) +
+                    "</title>\n<style>body { font-family: sans-serif; margin: 1.5em; background: #fafafa; color: #222; "
+                    "max-width: 80em; } table { border-collapse: collapse; } th, td { padding: 0.4em 0.8em; "
+                    "border-bottom: 1px solid #ddd; text-align: right; } td.what { text-align: left; max-width: 40em; } "
+                    "figure { display: inline-block; margin: 0.4em; } figure img { width: 192px; "
+                    "image-rendering: pixelated; background: #000; margin-right: 2px; } .bad { color: #b00; "
+                    "font-weight: bold; }</style></head><body>\n";
+    h += "<h1>uvr budget: where " + html_escape(algo) + "'s error comes from</h1>\n<p>" +
+         html_escape(b["mesh"].get<std::string>()) + ", field <b>" + html_escape(b["field"].get<std::string>()) + "</b>, " +
+         std::to_string(b["width"].get<int>()) + " &times; " + std::to_string(b["height"].get<int>()) +
+         ". Every run is measured against the exact reference. The <i>baseline</i> has every switch exact; each "
+         "<i>factor</i> is the baseline with one switch set back to the configuration's value, so its error is that "
+         "cause's alone; the <i>total</i> is the configuration itself. Factors need not add up to the total: causes "
+         "interact.</p>\n";
+    if (!b["baseline_ok"].get<bool>())
+        h += "<p class=\"bad\">The baseline differs from the reference beyond float32 precision: the factors cannot "
+             "be told apart on this scene.</p>\n";
+    h += "<table><tr><th>run</th><th>RMSE</th><th>largest error</th><th>visible fraction</th><th>what it is</th></tr>\n";
+    h += row("baseline", b["baseline"], "every switch exact: what is left is float32 rounding");
+    for (const auto& n : b["factor_order"]) {
+        const std::string name = n.get<std::string>();
+        const nlohmann::json& j = b["factors"][name];
+        std::string what = j["what"].get<std::string>();
+        if (j.contains("with")) what += " (run with the rasterizer's coverage too: docs/budget.md)";
+        h += row(name, j, what);
+    }
+    h += row("total", b["total"], "the configuration as given: every cause at once");
+    h += "</table>\n";
+    if (chart)
+        h += "<p><img src=\"budget.png\" alt=\"the budget as a chart\"></p>\n";
+    else
+        h += "<p>(Chart not drawn: python3-matplotlib is missing.)</p>\n";
+    h += "<h2>Error maps</h2>\n<p>Each run's largest channel error per pixel (" + heat_legend_html() +
+         "), beside its image.</p>\n";
+    h += figure("total", b["total"]);
+    for (const auto& n : b["factor_order"]) h += figure(n.get<std::string>(), b["factors"][n.get<std::string>()]);
+    h += figure("baseline", b["baseline"]);
+    h += "<p>Every number: <a href=\"budget.json\">budget.json</a>; every image as .npy under runs/.</p>\n" +
+         load_check_script() + "</body></html>\n";
+    write_file_atomically(dir + "/index.html", h);
+}
+
+}  // namespace uvr::cli

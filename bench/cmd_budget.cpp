@@ -1,0 +1,262 @@
+// `uvr budget MESH --algo havs|vicp [scene options] [--k N] [--order O] [--backend emu|gl] [--report DIR] [--json]`:
+// the algorithm's error against the reference split into its causes (SPEC §7). The baseline has every switch exact
+// and must equal the reference to float32 precision; each factor run sets one switch back to the user's value (the
+// default unless given); the total is the user's configuration itself. Every run is measured against the reference
+// with SPEC §4's measures, and keeps its image (.npy) and heat map. docs/budget.md.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/algorithms.h"
+#include "bench/budget.h"
+#include "bench/commands.h"
+#include "bench/progress.h"
+#include "bench/report.h"
+#include "reference/error.h"
+#include "reference/error_measures.h"
+#include "reference/io_util.h"
+
+namespace uvr::cli {
+
+namespace {
+
+struct BudgetArgs {
+    SceneOptions scene;
+    AlgoOptions algo_options;
+    std::string algo;
+    std::string report;
+    bool json = false;
+};
+
+// The switches a run sets, as the JSON records them (the test of "only that switch differs" reads them).
+nlohmann::json switches_json(const std::string& algo, const AlgoOptions& o)
+{
+    nlohmann::json j = {{"segment", o.segment},
+                        {"table_size", o.table_size},
+                        {"interpolation", o.interpolation},
+                        {"coverage", o.coverage},
+                        {"threshold", o.threshold},
+                        {"backend", o.backend}};
+    if (algo == "havs") j["k"] = o.k;
+    if (algo == "vicp") j["order"] = o.order;
+    return j;
+}
+
+// SPEC §4's RMSE and largest error over the pixels whose `mask` is 0 (all four channels), and their count.
+nlohmann::json measures_outside(const Image& image, const Image& ref, const std::vector<uint32_t>& mask)
+{
+    double sum = 0.0, largest = 0.0;
+    std::size_t pixels = 0;
+    for (std::size_t p = 0; p < mask.size(); ++p) {
+        if (mask[p]) continue;
+        ++pixels;
+        for (int c = 0; c < 4; ++c) {
+            const double d = double(image.rgba[4 * p + std::size_t(c)]) - double(ref.rgba[4 * p + std::size_t(c)]);
+            sum += d * d;
+            largest = std::max(largest, std::abs(d));
+        }
+    }
+    return {{"rmse", pixels ? std::sqrt(sum / (4.0 * double(pixels))) : 0.0}, {"max_abs", largest}, {"pixels", pixels}};
+}
+
+// A per-pixel count as an image (.npy): the count in red, alpha 1, as `uvr render --diagnostics` writes them.
+Image count_image(const std::vector<uint32_t>& counts, int width, int height)
+{
+    Image im(width, height);
+    for (std::size_t p = 0; p < counts.size(); ++p) {
+        im.rgba[4 * p] = float(counts[p]);
+        im.rgba[4 * p + 3] = 1.0f;
+    }
+    return im;
+}
+
+}  // namespace
+
+std::vector<BudgetFactor> budget_factors(const std::string& algo)
+{
+    // Each factor's switch, applied to the baseline's options from the user's.
+    const auto table = [](AlgoOptions& run, const AlgoOptions& user) {
+        run.segment = user.segment;
+        run.table_size = user.table_size;
+        run.table_format = user.table_format;
+    };
+    std::vector<BudgetFactor> f;
+    if (algo == "havs")
+        f.push_back({"sort", "the k-buffer of k entries: fragments the object-space face sort leaves more than k - 1 "
+                             "places out of order are composited out of order",
+                     [](AlgoOptions& run, const AlgoOptions& user) { run.k = user.k; }});
+    if (algo == "vicp")
+        f.push_back({"sort", "the cell order: cells composited out of visibility order (MPVONC's broken cycles, or "
+                             "the centroid order's mistakes)",
+                     [](AlgoOptions& run, const AlgoOptions& user) { run.order = user.order; }});
+    f.push_back({"table", "the pre-integrated table: the segment's colour looked up, filtered, from a table of finite "
+                          "size instead of integrated exactly",
+                 table});
+    f.push_back({"interpolation", "the rasterizer's interpolation: the fragment's values from the seed's interpolated "
+                                  "varyings (float, perspective-correct) instead of computed in double from the pixel's "
+                                  "ray",
+                 [](AlgoOptions& run, const AlgoOptions& user) { run.interpolation = user.interpolation; }});
+    f.push_back({"coverage", "the rasterizer's coverage: pixels chosen by the snapped (fixed-point) triangle instead of "
+                             "by the ray through the pixel centre crossing the primitive",
+                 [](AlgoOptions& run, const AlgoOptions& user) { run.coverage = user.coverage; }});
+    f.push_back({"termination", "early termination: a pixel stops compositing once its opacity passes the threshold",
+                 [](AlgoOptions& run, const AlgoOptions& user) { run.threshold = user.threshold; }});
+    return f;
+}
+
+AlgoOptions budget_baseline(const std::string& algo, const AlgoOptions& user)
+{
+    AlgoOptions b = user;
+    b.backend = "emu";  // exact segments and coverage are the emulation's only
+    b.segment = "exact";
+    b.interpolation = "exact";
+    b.coverage = "exact";
+    b.threshold = 1.0;
+    if (algo == "havs") b.k = kBudgetBaselineK;
+    if (algo == "vicp") b.order = "mpvonc";
+    return b;
+}
+
+// The user's options with each per-algorithm default filled in, so that the JSON says what ran.
+static AlgoOptions budget_user_options(const std::string& algo, AlgoOptions user)
+{
+    if (user.interpolation.empty()) user.interpolation = "gpu";
+    if (user.threshold < 0.0) user.threshold = algo == "havs" ? 0.99 : 1.0;
+    return user;
+}
+
+nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOptions& options, const std::string& dir,
+                          const std::string& mesh_name)
+{
+    if (algo != "havs" && algo != "vicp")
+        throw InputError("", "--algo must be havs or vicp (the ray caster's budget is not built yet: docs/budget.md)");
+    check_algorithm_scene(s, algo);
+    const AlgoOptions user = budget_user_options(algo, options);
+    const AlgoOptions base = budget_baseline(algo, user);
+    const std::vector<BudgetFactor> factors = budget_factors(algo);
+    // Every run's options, checked before anything is written. A run that GL can draw uses it when asked (the bits
+    // are the emulation's): the ones with the table and the rasterizer's coverage.
+    struct Run {
+        std::string name;
+        AlgoOptions o;
+    };
+    std::vector<Run> runs{{"baseline", base}};
+    for (const BudgetFactor& f : factors) {
+        AlgoOptions o = base;
+        f.apply(o, user);
+        runs.push_back({f.name, o});
+    }
+    runs.push_back({"total", user});
+    for (Run& r : runs) {
+        if (user.backend == "gl" && r.o.segment != "exact" && r.o.coverage != "exact") r.o.backend = "gl";
+        // VICP's seed has no varyings where the rasterizer makes no fragment: its interpolation factor keeps the
+        // rasterizer's coverage (docs/budget.md, "VICP's interpolation factor").
+        if (algo == "vicp" && r.name == "interpolation" && r.o.interpolation == "gpu") r.o.coverage = "gpu";
+        find_algorithm(algo).check_options(r.o);
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(dir + "/runs", ec);
+    if (ec) throw InputError(dir, "cannot create the report directory: " + ec.message());
+
+    ProgressBar progress("budget");
+    const AlgoResult ref = run_algorithm(s, "reference", user);
+    write_image(dir + "/runs/reference.npy", ref.image);
+    write_image(dir + "/runs/reference.png", ref.image);
+    nlohmann::json out;
+    out["algo"] = algo;
+    out["mesh"] = mesh_name;
+    out["field"] = s.field_name();
+    out["width"] = s.width;
+    out["height"] = s.height;
+    out["reference"] = {{"image", "runs/reference.npy"}, {"cached", ref.cached}};
+    out["factors"] = nlohmann::json::object();
+    out["factor_order"] = nlohmann::json::array();  // the factors in the order the page and the chart show them
+    for (const BudgetFactor& f : factors) out["factor_order"].push_back(f.name);
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+        const Run& r = runs[i];
+        progress.update(double(i) / double(runs.size()));
+        const AlgoResult res = run_algorithm(s, algo, r.o);
+        write_image(dir + "/runs/" + r.name + ".npy", res.image);
+        write_image(dir + "/runs/" + r.name + ".png", res.image);
+        write_png_rgb8(dir + "/runs/" + r.name + "-error.png", s.width, s.height,
+                       error_heat_map(pixel_errors(res.image, ref.image)));
+        nlohmann::json j = measures_json(measure_errors(res.image, ref.image));
+        j["switches"] = switches_json(algo, r.o);
+        j["image"] = "runs/" + r.name + ".npy";
+        j["error_map"] = "runs/" + r.name + "-error.png";
+        j["ms"] = res.ms;
+        j["stats"] = res.stats;
+        if (r.name == "baseline" || r.name == "total") {
+            out[r.name] = j;
+        } else {
+            for (const BudgetFactor& f : factors)
+                if (f.name == r.name) j["what"] = f.what;
+            if (algo == "vicp" && r.name == "interpolation" && r.o.coverage != base.coverage)
+                j["with"] = nlohmann::json::array({"coverage"});
+            // VICP's seed: its interpolation's error apart from its wrong exits (docs/vicp.md, "The seed's
+            // pipeline": the exits picked wrongly beside face edges, and the perspective), with the mask kept.
+            if (!res.wrong_exits.empty()) {
+                const std::string mask = "runs/" + r.name + "-wrong_exits.npy";
+                write_image(dir + "/" + mask, count_image(res.wrong_exits, s.width, s.height));
+                j["without_wrong_exits"] = measures_outside(res.image, ref.image, res.wrong_exits);
+                j["without_wrong_exits"]["mask"] = mask;
+            }
+            out["factors"][r.name] = j;
+        }
+    }
+    progress.finish();
+    const nlohmann::json& b = out["baseline"];
+    out["baseline_ok"] = b["max_abs"].get<double>() <= kBudgetBaselineMax;
+    write_file_atomically(dir + "/budget.json", out.dump(1) + "\n");
+    // The chart by matplotlib (Debian's python3-matplotlib); without it the numbers still stand.
+    const std::string plot = std::string("/usr/bin/python3 '") + UVR_SOURCE_DIR + "/bench/plots/budget_plots.py' '" +
+                             dir + "' >/dev/null 2>&1";
+    const bool plotted = std::system(plot.c_str()) == 0;
+    if (!plotted) std::fprintf(stderr, "uvr: warning: the budget chart not drawn (needs python3-matplotlib)\n");
+    write_budget_page(dir, out, plotted);
+    return out;
+}
+
+void register_budget(CLI::App& app)
+{
+    auto* cmd = app.add_subcommand("budget", "Split an algorithm's error against the reference into its causes");
+    auto a = std::make_shared<BudgetArgs>();
+    add_scene_options(*cmd, a->scene);
+    add_algo_options(*cmd, a->algo_options);
+    cmd->add_option("--algo", a->algo, "havs | vicp")->required();
+    cmd->add_option("--report", a->report, "Directory for budget.json, every run's image, the chart, index.html")
+        ->required();
+    cmd->add_flag("--json", a->json, "Print budget.json's object on stdout");
+    cmd->callback([a] {
+        run_algorithm_check(a->algo);
+        const Scene s = setup_scene(a->scene);
+        const nlohmann::json out = run_budget(s, a->algo, a->algo_options, a->report, a->scene.input.path);
+        if (a->json) {
+            std::printf("%s\n", out.dump(1).c_str());
+        } else {
+            const auto line = [](const char* name, const nlohmann::json& j) {
+                std::printf("%-14s RMSE %-10.3g max %-10.3g visible %.4f\n", name, j["rmse"].get<double>(),
+                            j["max_abs"].get<double>(), j["visible_fraction"].get<double>());
+            };
+            line("baseline", out["baseline"]);
+            for (const auto& n : out["factor_order"])
+                line(n.get<std::string>().c_str(), out["factors"][n.get<std::string>()]);
+            line("total", out["total"]);
+            std::printf("report: %s/index.html\n", a->report.c_str());
+        }
+        if (!out["baseline_ok"].get<bool>())
+            throw InputError(a->scene.input.path,
+                             "the baseline (every switch exact) differs from the reference by " +
+                                 std::to_string(out["baseline"]["max_abs"].get<double>()) +
+                                 " at most, above float32 precision (" + std::to_string(kBudgetBaselineMax) +
+                                 "): the factors cannot be told apart on this scene (docs/budget.md); the report is in " +
+                                 a->report);
+    });
+}
+
+}  // namespace uvr::cli
