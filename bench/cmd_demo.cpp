@@ -1,7 +1,8 @@
 // `uvr demo`: the whole lab on built-in data, no argument needed, summarised on one landing page (DIR/index.html):
 // the torus's ground truth beside HAVS and VICP, emulated and on GL (OSMesa), each GL image marked where it has the
 // emulation's bits; HAVS through the seed's own ARB programs beside the emulation with the same entries; the ray caster
-// on a built-in volume; a short error-versus-k sweep. Each part keeps its own report page, which the landing page links.
+// on a built-in volume; a short error-versus-k sweep; the error budgets of HAVS and VICP. Each part keeps its own
+// report page, which the landing page links.
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/algorithms.h"
+#include "bench/budget.h"
 #include "bench/commands.h"
 #include "bench/report.h"
 #include "reference/builtin_mesh.h"
@@ -96,7 +98,7 @@ void register_demo(CLI::App& app)
         std::error_code ec;
         std::filesystem::create_directories(dir, ec);
         if (ec) throw InputError(dir, "cannot create the demo directory: " + ec.message());
-        Steps steps(7);
+        Steps steps(8);
         SceneOptions so;
         so.input.path = "builtin:torus";
         so.view = "30,50";
@@ -163,6 +165,15 @@ void register_demo(CLI::App& app)
         std::fflush(stdout);
         if (std::system(sweep.c_str()) != 0) throw InputError(dir, "the demo's sweep failed");
         page["sweep"] = "sweep/index.html";
+
+        // The error budgets of HAVS and VICP on the same scene (uvr budget).
+        steps.begin("where HAVS's and VICP's errors come from (uvr budget)");
+        page["budgets"] = nlohmann::json::array();
+        for (const std::string algo : {"havs", "vicp"}) {
+            run_budget(s, algo, emu, dir + "/budget-" + algo, "builtin:torus");
+            page["budgets"].push_back({{"title", algo == "havs" ? "HAVS (k = 6)" : "VICP (MPVONC)"},
+                                       {"page", "budget-" + algo + "/index.html"}});
+        }
 
         steps.begin("the landing page");
         page["mesh"] = {{"points", mesh.points.size()}, {"tetrahedra", mesh.tets.size()}};

@@ -227,6 +227,15 @@ void write_demo_page(const std::string& dir, const nlohmann::json& page)
     html += "<h2><a href=\"" + html_escape(page["sweep"].get<std::string>()) +
             "\">Error against the k-buffer's size (uvr sweep)</a></h2>\n<p>HAVS on the small torus, k = 1 to 16, three "
             "views: how the error falls as the k-buffer grows.</p>\n";
+    if (page.contains("budgets")) {
+        html += "<h2>Where the error comes from (uvr budget)</h2>\n<p>Each algorithm with every switch exact, then with "
+                "one cause at a time set back to its default: sorting, the table, the rasterizer's interpolation and "
+                "coverage, early termination.</p>\n<ul>\n";
+        for (const auto& b : page["budgets"])
+            html += "<li><a href=\"" + html_escape(b["page"].get<std::string>()) + "\">" +
+                    html_escape(b["title"].get<std::string>()) + "</a></li>\n";
+        html += "</ul>\n";
+    }
     html += load_check_script() + "</body></html>\n";
     write_file_atomically(dir + "/index.html", html);
 }

@@ -24,7 +24,8 @@ void write_budget_page(const std::string& dir, const nlohmann::json& budget, boo
 
 // Writes DIR/index.html for `uvr demo`: `page` has "parts" (each a compare report: "title", "page", "results" as in
 // metrics.json with image paths relative to DIR and, on GL and ARB rows, "same_bits" / "same_bits_as"; or
-// "unavailable" with the reason), "sweep" (the sweep page) and "mesh" (counts).
+// "unavailable" with the reason), "sweep" (the sweep page), "budgets" (each a budget report: "title", "page") and
+// "mesh" (counts).
 void write_demo_page(const std::string& dir, const nlohmann::json& page);
 
 // A small script that marks <body> with data-loaded, data-images and data-broken once the page has loaded.

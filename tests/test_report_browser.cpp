@@ -74,6 +74,26 @@ TEST_CASE("the compare and sweep pages load in a real browser with every image a
     unsetenv("UVR_CACHE_DIR");
 }
 
+TEST_CASE("the budget page loads in a real browser with its chart, every error map and no script error")
+{
+    TempDir tmp("browser-budget");
+    setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
+    const auto b = run_uvr("budget builtin:torus-small --algo vicp --size 64x64 --report '" + tmp.file("budget") + "'");
+    INFO(b.err);
+    REQUIRE(b.exit_code == 0);
+    REQUIRE(std::filesystem::exists(tmp.file("budget/budget.png")));  // matplotlib drew the chart
+    check_page(tmp, tmp.file("budget/index.html"), tmp.file("budget.png"));
+    // The table, the chart, and the error map and image of every run: baseline, five factors, total.
+    const std::string html = uvr::test::file_contents(tmp.file("budget/index.html"));
+    CHECK_THAT(html, Catch::Contains("src=\"budget.png\""));
+    for (const char* run : {"baseline", "sort", "table", "interpolation", "coverage", "termination", "total"}) {
+        INFO(run);
+        CHECK_THAT(html, Catch::Contains(std::string("src=\"runs/") + run + "-error.png\""));
+        CHECK_THAT(html, Catch::Contains(std::string("src=\"runs/") + run + ".png\""));
+    }
+    unsetenv("UVR_CACHE_DIR");
+}
+
 TEST_CASE("uvr demo's landing page loads in a real browser with every link's page and every image present")
 {
     TempDir tmp("browser-demo");
