@@ -15,6 +15,11 @@ namespace uvr::cli {
 // The baseline's k for HAVS: more than any tested scene puts on one pixel (tests/havs_convergence.h's 255), so the
 // k-buffer never holds a fragment out of order.
 inline constexpr int kBudgetBaselineK = 255;
+// The ray caster's baseline step: the user's divided by this. Its march is first order (docs/raycast.md), so the
+// baseline keeps about 1/16 of the step's error; the budget reports it and checks it stays below the step factor's
+// (kBudgetStepBaselineShare).
+inline constexpr double kBudgetStepRefinement = 16.0;
+inline constexpr double kBudgetStepBaselineShare = 0.25;
 // How far the baseline may differ from the reference (largest channel error) and still count as equal to float32
 // precision: with every switch exact HAVS and VICP leave at most 9e-7 on the hardest views measured
 // (tests/test_exact_coverage.cpp, docs/havs.md "Convergence on many views"), whose bar this is.

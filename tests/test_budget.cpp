@@ -1,6 +1,7 @@
 // `uvr budget` (issue 26, SPEC §7): the baseline equals the reference, each factor run differs from the baseline by its
 // own switch only, every number is SPEC §4's measure of the kept images, and scenes whose answer is known give it.
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -152,6 +153,42 @@ TEST_CASE("each factor run of uvr budget differs from the baseline by its own sw
     unsetenv("UVR_CACHE_DIR");
 }
 
+TEST_CASE("the ray caster's budget: a baseline at a sixteenth of the step, and each factor by its own switch")
+{
+    // The march is first order (docs/raycast.md): at 1/16 of the step the baseline keeps about 1/16 of the step's
+    // error, which the command requires below a quarter of the step factor's (bench/budget.h).
+    TempDir tmp("budget-raycast");
+    setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
+    for (const char* volume : {"vtk-data/neghip.slc", "vtk-data/hydrogen.vti"}) {
+        const std::string dir = tmp.file(std::filesystem::path(volume).stem().string());
+        const nlohmann::json b =
+            budget("'" + uvr::test::data_path(volume) + "' --size 64x64 --algo raycast --step 0.5", dir);
+        INFO(volume << ": baseline RMSE " << b["baseline"]["rmse"] << ", step factor " << b["factors"]["step"]["rmse"]);
+        CHECK(b["baseline_ok"] == true);
+        const nlohmann::json& base = b["baseline"]["switches"];
+        CHECK(base["step"] == 0.5 / 16.0);
+        CHECK(base["segment"] == "exact");
+        CHECK(base["preintegrate"] == true);
+        CHECK(base["volume_format"] == "f32");
+        CHECK_FALSE(base.contains("coverage"));
+        CHECK(b["not_split"].contains("coverage"));
+        REQUIRE(b["factor_order"] == nlohmann::json::array({"step", "table", "texture", "interpolation", "termination"}));
+        const nlohmann::json& f = b["factors"];
+        require_only(f["step"], b["baseline"], {"step"});
+        CHECK(f["step"]["switches"]["step"] == 0.5);
+        require_only(f["table"], b["baseline"], {"segment", "table_size", "preintegrate"});
+        CHECK(f["table"]["switches"]["preintegrate"] == false);
+        require_only(f["texture"], b["baseline"], {"volume_format"});
+        require_only(f["interpolation"], b["baseline"], {"interpolation"});
+        require_only(f["termination"], b["baseline"], {"threshold"});
+        CHECK(f["termination"]["switches"]["threshold"] == 0.95);
+        CHECK(f["step"]["rmse"].get<double>() > b["baseline"]["rmse"].get<double>());
+        for (const auto& [name, run] : f.items()) require_measures_of_images(dir, run);
+        require_measures_of_images(dir, b["total"]);
+    }
+    unsetenv("UVR_CACHE_DIR");
+}
+
 TEST_CASE("uvr budget gives the known answers: VICP's interpolation at float rounding where the distances are linear, "
           "HAVS's sort at 0 where no pixel holds more fragments than k")
 {
@@ -197,8 +234,8 @@ TEST_CASE("uvr budget refuses what it cannot split, before writing anything")
 {
     TempDir tmp("budget-refusals");
     for (const auto& [args, phrase] :
-         {std::pair<std::string, std::string>{"builtin:torus-volume --algo raycast", "--algo must be havs or vicp"},
-          {"builtin:torus-small --algo reference", "--algo must be havs or vicp"},
+         {std::pair<std::string, std::string>{"builtin:torus-small --algo raycast", "renders regular grids"},
+          {"builtin:torus-small --algo reference", "--algo must be havs, vicp or raycast"},
           {"builtin:torus-small --algo vicp --order painter", "--order must be centroid or mpvonc"}}) {
         const CommandResult r = run_uvr("budget " + args + " --size 16x16 --report '" + tmp.file("never") + "'");
         INFO(args << ": " << r.err);
