@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -36,10 +37,16 @@ std::vector<BudgetFactor> budget_factors(const std::string& algo);
 // The user's options with every switch exact: the baseline.
 AlgoOptions budget_baseline(const std::string& algo, const AlgoOptions& user);
 
+// Runs rendered by earlier budgets of the same scene and camera (uvr sweep's budget per k): a run's switches -> where
+// its files are (the path without the suffixes) and its JSON. A budget takes a run from here instead of rendering it.
+struct BudgetRunCache {
+    std::map<std::string, std::pair<std::string, nlohmann::json>> runs;
+};
+
 // The reference, the baseline, one run per factor and the user's configuration on scene `s`, each measured against
 // the reference and written to `dir` (runs/NAME.npy, .png and -error.png; budget.json; the chart; index.html).
 // Every run's options are checked before anything is written. Returns budget.json's object.
 nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOptions& options, const std::string& dir,
-                          const std::string& mesh_name);
+                          const std::string& mesh_name, BudgetRunCache* cache = nullptr);
 
 }  // namespace uvr::cli

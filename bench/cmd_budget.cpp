@@ -167,7 +167,7 @@ static AlgoOptions budget_user_options(const Scene& s, const std::string& algo, 
 }
 
 nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOptions& options, const std::string& dir,
-                          const std::string& mesh_name)
+                          const std::string& mesh_name, BudgetRunCache* cache)
 {
     if (algo != "havs" && algo != "vicp" && algo != "raycast")
         throw InputError("", "--algo must be havs, vicp or raycast");
@@ -213,38 +213,44 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
     out["factors"] = nlohmann::json::object();
     out["factor_order"] = nlohmann::json::array();  // the factors in the order the page and the chart show them
     for (const BudgetFactor& f : factors) out["factor_order"].push_back(f.name);
-    std::map<std::string, std::string> rendered;  // a run's switches -> the run that rendered them
+    // A run whose switches an earlier run had (a factor whose switch already has the baseline's value: VICP's MPVONC,
+    // a threshold of 1; or a run of an earlier budget in `cache`) is not rendered again: its numbers and files are
+    // copied.
+    BudgetRunCache local;
+    BudgetRunCache& rendered = cache ? *cache : local;
+    // Where a run's JSON goes, with what the page says of a factor.
+    const auto store = [&](const Run& r, nlohmann::json j) {
+        if (r.name == "baseline" || r.name == "total") {
+            out[r.name] = std::move(j);
+            return;
+        }
+        for (const BudgetFactor& f : factors)
+            if (f.name == r.name) j["what"] = f.what;
+        if (algo == "vicp" && r.name == "interpolation" && r.o.coverage != base.coverage)
+            j["with"] = nlohmann::json::array({"coverage"});
+        out["factors"][r.name] = std::move(j);
+    };
     for (std::size_t i = 0; i < runs.size(); ++i) {
         const Run& r = runs[i];
         progress.update(double(i) / double(runs.size()));
-        // A factor whose switch already has the baseline's value (VICP's MPVONC, a threshold of 1) is the baseline's
-        // run: its numbers and files are copied, not rendered again.
         const std::string key = switches_json(algo, r.o).dump();
-        if (const auto same = rendered.find(key); same != rendered.end()) {
-            nlohmann::json j = same->second == "baseline" ? out["baseline"] : same->second == "total" ? out["total"]
-                                                                                : out["factors"][same->second];
+        if (const auto same = rendered.runs.find(key); same != rendered.runs.end()) {
+            const auto& [from_base, from_json] = same->second;
+            nlohmann::json j = from_json;
             for (const char* suffix : {".npy", ".png", "-error.png", "-wrong_exits.npy"}) {
-                const std::string from = dir + "/runs/" + same->second + suffix;
-                if (std::filesystem::exists(from))
-                    std::filesystem::copy_file(from, dir + "/runs/" + r.name + suffix,
-                                               std::filesystem::copy_options::overwrite_existing);
+                const std::string from = from_base + suffix, to = dir + "/runs/" + r.name + suffix;
+                if (std::filesystem::exists(from) && from != to)
+                    std::filesystem::copy_file(from, to, std::filesystem::copy_options::overwrite_existing);
             }
             j["image"] = "runs/" + r.name + ".npy";
             j["error_map"] = "runs/" + r.name + "-error.png";
-            if (j.contains("without_wrong_exits")) j["without_wrong_exits"]["mask"] = "runs/" + r.name + "-wrong_exits.npy";
-            j["same_as"] = same->second;
+            if (j.contains("without_wrong_exits"))
+                j["without_wrong_exits"]["mask"] = "runs/" + r.name + "-wrong_exits.npy";
+            j["same_as"] = from_base.substr(from_base.find_last_of('/') + 1);
             j["ms"] = 0.0;
-            j.erase("what");
-            j.erase("with");
-            for (const BudgetFactor& f : factors)
-                if (f.name == r.name) j["what"] = f.what;
-            if (r.name == "total")
-                out["total"] = j;
-            else
-                out["factors"][r.name] = j;
+            store(r, std::move(j));
             continue;
         }
-        rendered[key] = r.name;
         const AlgoResult res = run_algorithm(s, algo, r.o);
         write_image(dir + "/runs/" + r.name + ".npy", res.image);
         write_image(dir + "/runs/" + r.name + ".png", res.image);
@@ -256,23 +262,16 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
         j["error_map"] = "runs/" + r.name + "-error.png";
         j["ms"] = res.ms;
         j["stats"] = res.stats;
-        if (r.name == "baseline" || r.name == "total") {
-            out[r.name] = j;
-        } else {
-            for (const BudgetFactor& f : factors)
-                if (f.name == r.name) j["what"] = f.what;
-            if (algo == "vicp" && r.name == "interpolation" && r.o.coverage != base.coverage)
-                j["with"] = nlohmann::json::array({"coverage"});
-            // VICP's seed: its interpolation's error apart from its wrong exits (docs/vicp.md, "The seed's
-            // pipeline": the exits picked wrongly beside face edges, and the perspective), with the mask kept.
-            if (!res.wrong_exits.empty()) {
-                const std::string mask = "runs/" + r.name + "-wrong_exits.npy";
-                write_image(dir + "/" + mask, count_image(res.wrong_exits, s.width, s.height));
-                j["without_wrong_exits"] = measures_outside(res.image, ref.image, res.wrong_exits);
-                j["without_wrong_exits"]["mask"] = mask;
-            }
-            out["factors"][r.name] = j;
+        // VICP's seed: its interpolation's error apart from its wrong exits (docs/vicp.md, "The seed's pipeline": the
+        // exits picked wrongly beside face edges, and the perspective), with the mask kept.
+        if (!res.wrong_exits.empty()) {
+            const std::string mask = "runs/" + r.name + "-wrong_exits.npy";
+            write_image(dir + "/" + mask, count_image(res.wrong_exits, s.width, s.height));
+            j["without_wrong_exits"] = measures_outside(res.image, ref.image, res.wrong_exits);
+            j["without_wrong_exits"]["mask"] = mask;
         }
+        rendered.runs[key] = {dir + "/runs/" + r.name, j};
+        store(r, std::move(j));
     }
     progress.finish();
     const nlohmann::json& b = out["baseline"];

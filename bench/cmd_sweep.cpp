@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/algorithms.h"
+#include "bench/budget.h"
 #include "bench/commands.h"
 #include "bench/progress.h"
 #include "bench/report.h"
@@ -36,6 +37,7 @@ struct SweepArgs {
     std::string table_sizes;  // empty: no table-size sweep
     int views = 1;
     std::string report;
+    bool budget = false;  // HAVS: the error budget at every k (uvr budget's runs, shared across k)
     bool json = false;
 };
 
@@ -98,6 +100,8 @@ void register_sweep(CLI::App& app)
                     "Comma-separated table sizes: the table's error against exact at the largest k, per size");
     cmd->add_option("--views", a->views, "Number of views")->capture_default_str()->check(CLI::Range(1, 64));
     cmd->add_option("--report", a->report, "Directory for sweep.csv, sweep.json, plots, index.html")->required();
+    cmd->add_flag("--budget", a->budget,
+                  "HAVS: the error budget (uvr budget) at every k of every view: which cause dominates as k grows");
     cmd->add_flag("--json", a->json, "Print sweep.json's object on stdout");
     cmd->callback([a, k_option] {
         const std::vector<double> steps = parse_step_list(a->steps);
@@ -160,6 +164,7 @@ void register_sweep(CLI::App& app)
         out["rows"] = nlohmann::json::array();
         out["table_rows"] = nlohmann::json::array();
         out["views"] = nlohmann::json::array();
+        out["budget_rows"] = nlohmann::json::array();
         ProgressBar bar("sweep");
         const std::size_t total = views.size() * (ks.size() * 2 + table_sizes.size());
         std::size_t done = 0, resumed = 0;
@@ -232,6 +237,32 @@ void register_sweep(CLI::App& app)
             vj["table_floor_max_abs"] = floor.max_abs;
             floor_sum += floor.rmse;
             out["views"].push_back(vj);
+            // The budget at every k: the baseline and the factors that do not depend on k are rendered once a view
+            // (the cache), the sort factor and the total once a k.
+            if (a->budget) {
+                BudgetRunCache cache;
+                for (int k : ks) {
+                    AlgoOptions o = a->algo_options;
+                    o.k = k;
+                    const std::string page = "budget/" + vtag + "-k" + std::to_string(k);
+                    const nlohmann::json b = run_budget(s, "havs", o, dir + "/" + page, a->scene.input.path, &cache);
+                    nlohmann::json row = {{"view", v.index},
+                                          {"k", k},
+                                          {"page", page + "/index.html"},
+                                          {"baseline_ok", b["baseline_ok"]},
+                                          {"baseline", b["baseline"]["rmse"]},
+                                          {"total", b["total"]["rmse"]},
+                                          {"factors", nlohmann::json::object()}};
+                    std::string dominant;
+                    for (const auto& n : b["factor_order"]) {
+                        const double e = b["factors"][n.get<std::string>()]["rmse"].get<double>();
+                        row["factors"][n.get<std::string>()] = e;
+                        if (dominant.empty() || e > row["factors"][dominant].get<double>()) dominant = n.get<std::string>();
+                    }
+                    row["dominant"] = dominant;
+                    out["budget_rows"].push_back(row);
+                }
+            }
         }
         bar.finish();
         out["table_floor_rmse"] = floor_sum / double(views.size());

@@ -176,6 +176,23 @@ void write_sweep_page(const std::string& dir, const nlohmann::json& w, bool plot
         }
         h += "</table>\n";
     }
+    if (w.contains("budget_rows") && !w["budget_rows"].empty()) {
+        h += "<h2>The error budget against k</h2>\n<p>At every k, HAVS with every switch exact, then with one cause at a "
+             "time set back to its default (uvr budget): which cause dominates as k grows.</p>\n";
+        if (plots) h += "<p><img src=\"budget_vs_k.png\" alt=\"the budget against k\"></p>\n";
+        h += "<table><tr><th>view</th><th>k</th><th>largest cause</th><th>its RMSE</th><th>total RMSE</th>"
+             "<th>budget</th></tr>\n";
+        for (const auto& r : w["budget_rows"]) {
+            char buf[256];
+            const std::string dominant = r["dominant"].get<std::string>();
+            std::snprintf(buf, sizeof buf, "<tr><td>%d</td><td>%d</td><td>%s</td><td>%.3g</td><td>%.3g</td>",
+                          r["view"].get<int>(), r["k"].get<int>(), html_escape(dominant).c_str(),
+                          r["factors"][dominant].get<double>(), r["total"].get<double>());
+            h += std::string(buf) + "<td><a href=\"" + html_escape(r["page"].get<std::string>()) + "\">page</a>" +
+                 (r["baseline_ok"].get<bool>() ? "" : " (baseline not exact)") + "</td></tr>\n";
+        }
+        h += "</table>\n";
+    }
     h += "<p>Every number: <a href=\"sweep.csv\">sweep.csv</a>, <a href=\"sweep.json\">sweep.json</a>."
          "</p>\n" + load_check_script() + "</body></html>\n";
     write_file_atomically(dir + "/index.html", h);

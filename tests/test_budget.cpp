@@ -230,6 +230,40 @@ TEST_CASE("uvr budget gives the known answers: VICP's interpolation at float rou
     unsetenv("UVR_CACHE_DIR");
 }
 
+TEST_CASE("uvr sweep --budget gives HAVS's budget at every k, as uvr budget gives it at that k")
+{
+    TempDir tmp("budget-sweep");
+    setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
+    const std::string scene = "builtin:torus-small --size 64x64 --view 30,20";
+    const CommandResult r = run_uvr("sweep " + scene + " --k 1,2,8 --budget --report '" + tmp.file("sweep") + "' --json");
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const nlohmann::json w = nlohmann::json::parse(r.out);
+    REQUIRE(w["budget_rows"].size() == 3);
+    CHECK(std::filesystem::exists(tmp.file("sweep/budget_vs_k.png")));
+    const nlohmann::json& first = w["budget_rows"][0];
+    for (const auto& row : w["budget_rows"]) {
+        const int k = row["k"].get<int>();
+        INFO("k = " << k << ": " << row.dump());
+        CHECK(std::filesystem::exists(tmp.file("sweep/" + row["page"].get<std::string>())));
+        // The causes that do not depend on k are the same runs at every k.
+        for (const char* f : {"table", "interpolation", "coverage", "termination"}) CHECK(row["factors"][f] == first["factors"][f]);
+        CHECK(row["baseline"] == first["baseline"]);
+        // Each k's budget is the one uvr budget gives at that k, image for image.
+        const std::string alone = tmp.file("alone-k" + std::to_string(k));
+        const nlohmann::json b = budget(scene + " --algo havs --k " + std::to_string(k), alone);
+        CHECK(b["factors"]["sort"]["rmse"] == row["factors"]["sort"]);
+        CHECK(b["total"]["rmse"] == row["total"]);
+        const std::string in_sweep = tmp.file("sweep/budget/v0-k" + std::to_string(k) + "/runs/");
+        for (const char* run : {"sort", "total", "table"})
+            CHECK(uvr::test::file_contents(in_sweep + run + ".npy") ==
+                  uvr::test::file_contents(alone + "/runs/" + run + ".npy"));
+    }
+    // The sort factor falls as k grows (the k-buffer holds more of the fragments out of order).
+    CHECK(w["budget_rows"][2]["factors"]["sort"].get<double>() < w["budget_rows"][0]["factors"]["sort"].get<double>());
+    unsetenv("UVR_CACHE_DIR");
+}
+
 TEST_CASE("uvr budget refuses what it cannot split, before writing anything")
 {
     TempDir tmp("budget-refusals");

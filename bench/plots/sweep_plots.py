@@ -84,6 +84,32 @@ def main():
         fig.tight_layout()
         fig.savefig(f"{d}/table_error_vs_size.png")
 
+    budget_rows = sweep.get("budget_rows", [])
+    if budget_rows:
+        # The budget against k (sweep --budget): each factor's RMSE, the mean over the views, and the total.
+        names = list(budget_rows[0]["factors"].keys())
+        fig, ax = plt.subplots(figsize=(7, 4.5), dpi=110)
+        floor = 1e-9  # an exact run drawn at the axis' floor
+        for name in names + ["total"]:
+            mean = []
+            for k in ks:
+                at = [r for r in budget_rows if r["k"] == k]
+                vals = [(r["total"] if name == "total" else r["factors"][name]) for r in at]
+                mean.append(max(sum(vals) / max(1, len(vals)), floor))
+            ax.plot(ks, mean, "-" if name != "total" else "--", marker="o", linewidth=2 if name == "total" else 1.2,
+                    label=name)
+        ax.set_xscale("log", base=2)
+        ax.set_yscale("log")
+        ax.set_xticks(ks)
+        ax.set_xticklabels([str(k) for k in ks])
+        ax.set_xlabel("k (k-buffer entries)")
+        ax.set_ylabel(f"RMSE against the reference, mean of {len(views)} views")
+        ax.set_title(f"HAVS error budget against k: {sweep['mesh']}")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(f"{d}/budget_vs_k.png")
+
 
 if __name__ == "__main__":
     main()
