@@ -101,7 +101,8 @@ void register_sweep(CLI::App& app)
     cmd->add_option("--views", a->views, "Number of views")->capture_default_str()->check(CLI::Range(1, 64));
     cmd->add_option("--report", a->report, "Directory for sweep.csv, sweep.json, plots, index.html")->required();
     cmd->add_flag("--budget", a->budget,
-                  "HAVS: the error budget (uvr budget) at every k of every view: which cause dominates as k grows");
+                  "The error budget (uvr budget) at every k (HAVS) or step (the ray caster) of every view: which "
+                  "cause dominates as k grows or the step shrinks");
     cmd->add_flag("--json", a->json, "Print sweep.json's object on stdout");
     cmd->callback([a, k_option] {
         const std::vector<double> steps = parse_step_list(a->steps);
@@ -113,7 +114,7 @@ void register_sweep(CLI::App& app)
                     throw InputError(s.volume().source, "is a regular grid: --k sweeps HAVS, which takes a tetrahedral "
                                                         "mesh (--step sweeps the ray caster)");
                 raycast_options(a->algo_options);  // reject bad options before any work
-                const nlohmann::json out = run_step_sweep(s, a->algo_options, steps, a->views, a->report);
+                const nlohmann::json out = run_step_sweep(s, a->algo_options, steps, a->views, a->report, a->budget);
                 if (a->json) {
                     std::printf("%s\n", out.dump(1).c_str());
                     return;

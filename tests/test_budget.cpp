@@ -264,6 +264,30 @@ TEST_CASE("uvr sweep --budget gives HAVS's budget at every k, as uvr budget give
     unsetenv("UVR_CACHE_DIR");
 }
 
+TEST_CASE("uvr sweep --step --budget gives the ray caster's budget at every step")
+{
+    TempDir tmp("budget-sweep-step");
+    setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
+    const std::string volume = "'" + uvr::test::data_path("vtk-data/hydrogen.vti") + "' --size 48x48";
+    const CommandResult r = run_uvr("sweep " + volume + " --step 1,0.5 --budget --report '" + tmp.file("sweep") + "' --json");
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const nlohmann::json w = nlohmann::json::parse(r.out);
+    REQUIRE(w["budget_rows"].size() == 2);
+    for (const auto& row : w["budget_rows"]) {
+        INFO(row.dump());
+        CHECK(row["baseline_ok"] == true);
+        CHECK(std::filesystem::exists(tmp.file("sweep/" + row["page"].get<std::string>())));
+        const nlohmann::json b = budget(volume + " --algo raycast --step " + std::to_string(row["step"].get<double>()),
+                                        tmp.file("alone"));
+        CHECK(b["factors"]["step"]["rmse"] == row["factors"]["step"]);
+        CHECK(b["total"]["rmse"] == row["total"]);
+    }
+    // Steps sorted from the longest: the step factor falls as the step shrinks.
+    CHECK(w["budget_rows"][1]["factors"]["step"].get<double>() < w["budget_rows"][0]["factors"]["step"].get<double>());
+    unsetenv("UVR_CACHE_DIR");
+}
+
 TEST_CASE("uvr budget refuses what it cannot split, before writing anything")
 {
     TempDir tmp("budget-refusals");
