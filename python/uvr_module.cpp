@@ -14,6 +14,7 @@
 #include <pybind11/stl.h>
 
 #include "bench/algorithms.h"
+#include "bench/budget.h"
 #include "bench/scene.h"
 #include "reference/camera.h"
 #include "reference/error.h"
@@ -365,6 +366,23 @@ PYBIND11_MODULE(uvr, m)
         py::arg("image"), py::arg("reference"),
         "SPEC §4's measures of an image against the reference: rmse, max_abs, psnr, visible_fraction (and "
         "covered_left_empty). An H x W x 3 image is colour only, compared with the reference's colour over black.");
+    m.def(
+        "budget",
+        [](const PyScene& s, const std::string& algo, const std::string& report, const py::kwargs& kwargs) {
+            const AlgoOptions o = algo_options(kwargs);
+            std::string text;
+            {
+                py::gil_scoped_release free_python;
+                const uvr::cli::Scene& sc = *s.scene;
+                text = uvr::cli::run_budget(sc, algo, o, report, sc.is_volume() ? sc.volume().source : sc.mesh().source)
+                           .dump();
+            }
+            return json_value(text);
+        },
+        py::arg("scene"), py::arg("algo"), py::kw_only(), py::arg("report"),
+        "The error budget of `algo` (havs, vicp, raycast) as `uvr budget` computes it (docs/budget.md): the baseline "
+        "with every switch exact, one run per factor, the total, each against the reference; writes the report to "
+        "`report` and returns budget.json's object (a dict). Options as render's.");
     m.def(
         "algorithms",
         [] {

@@ -227,13 +227,14 @@ TEST_CASE("uvr demo runs with no argument and shows the whole lab, each GL image
     INFO(r.out << r.err);
     REQUIRE(r.exit_code == 0);
     CHECK(std::filesystem::exists(tmp.file("d/index.html")));
-    for (const char* part : {"compare", "compare-gl", "compare-seed-entries", "compare-arb", "raycast", "raycast-gl", "sweep"})
+    for (const char* part : {"compare", "compare-gl", "compare-seed-entries", "compare-arb", "raycast", "raycast-gl", "sweep",
+                             "budget-havs", "budget-vicp"})
         CHECK(std::filesystem::exists(tmp.file(std::string("d/") + part + "/index.html")));
     CHECK(std::filesystem::exists(tmp.file("d/compare/havs-emu-k6-error.png")));
     CHECK(std::filesystem::exists(tmp.file("d/sweep/sweep.csv")));
     CHECK(nlohmann::json::parse(uvr::test::file_contents(tmp.file("d/compare/metrics.json")))["results"].size() == 3);
     // One progress line a step, and the bit-for-bit marks of every GL and ARB image.
-    CHECK_THAT(r.out, Catch::Contains("uvr demo [7/7] the landing page"));
+    CHECK_THAT(r.out, Catch::Contains("uvr demo [8/8] the landing page"));
     for (const char* mark : {"havs-gl-k6 ", "vicp-gl-mpvonc ", "havs-arb-k6 ", "raycast-gl-post "}) {
         const std::size_t at = r.out.find(mark);
         REQUIRE(at != std::string::npos);

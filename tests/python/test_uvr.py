@@ -194,6 +194,26 @@ def test_measure_gives_spec_4_as_numpy_computes_it():
     assert uvr.measure(bent.astype(np.float64), reference)["rmse"] == pytest.approx(got["rmse"], rel=MEASURE_RELATIVE)
 
 
+def test_budget_gives_the_programs_budget(tmp_path):
+    """uvr.budget writes the report `uvr budget` writes and returns its budget.json: the same numbers, the same images."""
+    import json
+    scene = uvr.Scene("builtin:torus-small", **SMALL)
+    mine = uvr.budget(scene, "vicp", report=str(tmp_path / "py"))
+    assert mine == json.loads((tmp_path / "py" / "budget.json").read_text())
+    assert mine["baseline_ok"] and mine["factor_order"] == ["sort", "table", "interpolation", "coverage", "termination"]
+    subprocess.run([PROGRAM, "budget", "builtin:torus-small", "--algo", "vicp", *SMALL_ARGS, "--report",
+                    str(tmp_path / "program")], check=True, capture_output=True)
+    theirs = json.loads((tmp_path / "program" / "budget.json").read_text())
+    for run in ("baseline", "total"):
+        assert mine[run]["rmse"] == theirs[run]["rmse"]
+    for name in mine["factor_order"]:
+        assert mine["factors"][name]["rmse"] == theirs["factors"][name]["rmse"]
+        assert same_bits(np.load(tmp_path / "py" / "runs" / f"{name}.npy"),
+                         np.load(tmp_path / "program" / "runs" / f"{name}.npy"))
+    with pytest.raises(uvr.Error, match="--algo must be havs, vicp or raycast|algo must be havs, vicp or raycast"):
+        uvr.budget(scene, "reference", report=str(tmp_path / "never"))
+
+
 def test_bad_input_raises_uvr_error_with_uvrs_message(tmp_path):
     assert issubclass(uvr.Error, ValueError)
     scene = uvr.Scene("builtin:torus-small", **SMALL)
