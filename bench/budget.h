@@ -49,4 +49,8 @@ struct BudgetRunCache {
 nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOptions& options, const std::string& dir,
                           const std::string& mesh_name, BudgetRunCache* cache = nullptr);
 
+// A budget in one line of a sweep: `page` (its index.html), baseline_ok, the baseline's and the total's RMSE, each
+// factor's RMSE (`factors`) and the largest factor's name (`dominant`).
+nlohmann::json budget_summary(const nlohmann::json& budget, const std::string& page);
+
 }  // namespace uvr::cli

@@ -293,6 +293,24 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
     return out;
 }
 
+nlohmann::json budget_summary(const nlohmann::json& b, const std::string& page)
+{
+    nlohmann::json row = {{"page", page},
+                          {"baseline_ok", b["baseline_ok"]},
+                          {"baseline", b["baseline"]["rmse"]},
+                          {"total", b["total"]["rmse"]},
+                          {"factors", nlohmann::json::object()}};
+    std::string dominant;
+    for (const auto& n : b["factor_order"]) {
+        const std::string name = n.get<std::string>();
+        const double e = b["factors"][name]["rmse"].get<double>();
+        row["factors"][name] = e;
+        if (dominant.empty() || e > row["factors"][dominant].get<double>()) dominant = name;
+    }
+    row["dominant"] = dominant;
+    return row;
+}
+
 void register_budget(CLI::App& app)
 {
     auto* cmd = app.add_subcommand("budget", "Split an algorithm's error against the reference into its causes");

@@ -246,21 +246,10 @@ void register_sweep(CLI::App& app)
                     AlgoOptions o = a->algo_options;
                     o.k = k;
                     const std::string page = "budget/" + vtag + "-k" + std::to_string(k);
-                    const nlohmann::json b = run_budget(s, "havs", o, dir + "/" + page, a->scene.input.path, &cache);
-                    nlohmann::json row = {{"view", v.index},
-                                          {"k", k},
-                                          {"page", page + "/index.html"},
-                                          {"baseline_ok", b["baseline_ok"]},
-                                          {"baseline", b["baseline"]["rmse"]},
-                                          {"total", b["total"]["rmse"]},
-                                          {"factors", nlohmann::json::object()}};
-                    std::string dominant;
-                    for (const auto& n : b["factor_order"]) {
-                        const double e = b["factors"][n.get<std::string>()]["rmse"].get<double>();
-                        row["factors"][n.get<std::string>()] = e;
-                        if (dominant.empty() || e > row["factors"][dominant].get<double>()) dominant = n.get<std::string>();
-                    }
-                    row["dominant"] = dominant;
+                    nlohmann::json row = budget_summary(
+                        run_budget(s, "havs", o, dir + "/" + page, a->scene.input.path, &cache), page + "/index.html");
+                    row["view"] = v.index;
+                    row["k"] = k;
                     out["budget_rows"].push_back(row);
                 }
             }

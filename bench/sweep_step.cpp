@@ -108,17 +108,10 @@ nlohmann::json run_step_sweep(Scene& s, const AlgoOptions& o, std::vector<double
             c.step = st;
             char page[96];
             std::snprintf(page, sizeof page, "budget/v%d-step%.6g", view, st);
-            const nlohmann::json b = run_budget(s, "raycast", c, dir + "/" + page, v.source);
-            nlohmann::json row = {{"view", view}, {"step", st}, {"page", std::string(page) + "/index.html"},
-                                  {"baseline_ok", b["baseline_ok"]}, {"baseline", b["baseline"]["rmse"]},
-                                  {"total", b["total"]["rmse"]}, {"factors", nlohmann::json::object()}};
-            std::string dominant;
-            for (const auto& n : b["factor_order"]) {
-                const double e = b["factors"][n.get<std::string>()]["rmse"].get<double>();
-                row["factors"][n.get<std::string>()] = e;
-                if (dominant.empty() || e > row["factors"][dominant].get<double>()) dominant = n.get<std::string>();
-            }
-            row["dominant"] = dominant;
+            nlohmann::json row = budget_summary(run_budget(s, "raycast", c, dir + "/" + page, v.source),
+                                                std::string(page) + "/index.html");
+            row["view"] = view;
+            row["step"] = st;
             out["budget_rows"].push_back(row);
         }
     }
