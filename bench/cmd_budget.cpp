@@ -34,11 +34,13 @@ struct BudgetArgs {
     bool json = false;
 };
 
-// The switches a run sets, as the JSON records them (the test of "only that switch differs" reads them).
+// The switches a run sets, as the JSON records them (the test of "only that switch differs" reads them), and the key
+// by which a run already rendered is found again (BudgetRunCache): every option a budget's runs differ by.
 nlohmann::json switches_json(const std::string& algo, const AlgoOptions& o)
 {
     nlohmann::json j = {{"segment", o.segment},
                         {"table_size", o.table_size},
+                        {"table_format", o.table_format},
                         {"interpolation", o.interpolation},
                         {"coverage", o.coverage},
                         {"threshold", o.threshold},

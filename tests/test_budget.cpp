@@ -117,7 +117,7 @@ TEST_CASE("each factor run of uvr budget differs from the baseline by its own sw
                 nlohmann::json::array({"sort", "table", "interpolation", "coverage", "termination"}));
         const nlohmann::json& f = b["factors"];
         require_only(f["sort"], b["baseline"], {sort_switch});
-        require_only(f["table"], b["baseline"], {"segment", "table_size"});
+        require_only(f["table"], b["baseline"], {"segment", "table_size", "table_format"});
         CHECK(f["table"]["switches"]["segment"] == "table");
         // VICP's seed has varyings only on the rasterizer's fragments: its interpolation run takes its coverage too.
         if (std::string(algo) == "vicp") {
@@ -176,7 +176,7 @@ TEST_CASE("the ray caster's budget: a baseline at a sixteenth of the step, and e
         const nlohmann::json& f = b["factors"];
         require_only(f["step"], b["baseline"], {"step"});
         CHECK(f["step"]["switches"]["step"] == 0.5);
-        require_only(f["table"], b["baseline"], {"segment", "table_size", "preintegrate"});
+        require_only(f["table"], b["baseline"], {"segment", "table_size", "table_format", "preintegrate"});
         CHECK(f["table"]["switches"]["preintegrate"] == false);
         require_only(f["texture"], b["baseline"], {"volume_format"});
         require_only(f["interpolation"], b["baseline"], {"interpolation"});
