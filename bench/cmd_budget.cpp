@@ -232,9 +232,8 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
             j["with"] = nlohmann::json::array({"coverage"});
         out["factors"][r.name] = std::move(j);
     };
-    for (std::size_t i = 0; i < runs.size(); ++i) {
-        const Run& r = runs[i];
-        progress.update(double(i) / double(runs.size()));
+    // One run: taken from an earlier run with the same switches, or rendered; its JSON stored. Returns its JSON.
+    const auto do_run = [&](const Run& r) -> nlohmann::json& {
         const std::string key = switches_json(algo, r.o).dump();
         if (const auto same = rendered.runs.find(key); same != rendered.runs.end()) {
             const auto& [from_base, from_json] = same->second;
@@ -251,29 +250,64 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
             j["same_as"] = from_base.substr(from_base.find_last_of('/') + 1);
             j["ms"] = 0.0;
             store(r, std::move(j));
-            continue;
+        } else {
+            const AlgoResult res = run_algorithm(s, algo, r.o);
+            write_image(dir + "/runs/" + r.name + ".npy", res.image);
+            write_image(dir + "/runs/" + r.name + ".png", res.image);
+            write_png_rgb8(dir + "/runs/" + r.name + "-error.png", s.width, s.height,
+                           error_heat_map(pixel_errors(res.image, ref.image)));
+            nlohmann::json j = measures_json(measure_errors(res.image, ref.image));
+            j["switches"] = switches_json(algo, r.o);
+            j["image"] = "runs/" + r.name + ".npy";
+            j["error_map"] = "runs/" + r.name + "-error.png";
+            j["ms"] = res.ms;
+            j["stats"] = res.stats;
+            // VICP's seed: its interpolation's error apart from its wrong exits (docs/vicp.md, "The seed's
+            // pipeline": the exits picked wrongly beside face edges, and the perspective), with the mask kept.
+            if (!res.wrong_exits.empty()) {
+                const std::string mask = "runs/" + r.name + "-wrong_exits.npy";
+                write_image(dir + "/" + mask, count_image(res.wrong_exits, s.width, s.height));
+                j["without_wrong_exits"] = measures_outside(res.image, ref.image, res.wrong_exits);
+                j["without_wrong_exits"]["mask"] = mask;
+            }
+            rendered.runs[key] = {dir + "/runs/" + r.name, j};
+            store(r, std::move(j));
         }
-        const AlgoResult res = run_algorithm(s, algo, r.o);
-        write_image(dir + "/runs/" + r.name + ".npy", res.image);
-        write_image(dir + "/runs/" + r.name + ".png", res.image);
-        write_png_rgb8(dir + "/runs/" + r.name + "-error.png", s.width, s.height,
-                       error_heat_map(pixel_errors(res.image, ref.image)));
-        nlohmann::json j = measures_json(measure_errors(res.image, ref.image));
-        j["switches"] = switches_json(algo, r.o);
-        j["image"] = "runs/" + r.name + ".npy";
-        j["error_map"] = "runs/" + r.name + "-error.png";
-        j["ms"] = res.ms;
-        j["stats"] = res.stats;
-        // VICP's seed: its interpolation's error apart from its wrong exits (docs/vicp.md, "The seed's pipeline": the
-        // exits picked wrongly beside face edges, and the perspective), with the mask kept.
-        if (!res.wrong_exits.empty()) {
-            const std::string mask = "runs/" + r.name + "-wrong_exits.npy";
-            write_image(dir + "/" + mask, count_image(res.wrong_exits, s.width, s.height));
-            j["without_wrong_exits"] = measures_outside(res.image, ref.image, res.wrong_exits);
-            j["without_wrong_exits"]["mask"] = mask;
+        return r.name == "baseline" || r.name == "total" ? out[r.name] : out["factors"][r.name];
+    };
+    // The most fragments a run put on one pixel (HAVS's diagnostics), or -1 when the run did not count them.
+    const auto max_fragments = [](const nlohmann::json& j) {
+        const nlohmann::json& st = j["stats"];
+        return st.contains("max_fragments_per_pixel") ? st["max_fragments_per_pixel"].get<int>() : -1;
+    };
+    // HAVS's baseline k holds every fragment of the fullest pixel: the total is rendered first and its count, with a
+    // margin, sizes the runs at the baseline's k (a smaller k is also faster: the k-buffer's work grows with k).
+    std::size_t i0 = 0;
+    int base_k = base.k;
+    const auto set_base_k = [&](int k, std::size_t from) {
+        for (std::size_t i = from; i < runs.size(); ++i)
+            if (runs[i].o.k == base_k && runs[i].name != "sort" && runs[i].name != "total") runs[i].o.k = k;
+        base_k = k;
+    };
+    if (algo == "havs") {
+        std::rotate(runs.begin(), runs.end() - 1, runs.end());  // the total first
+        const int m = max_fragments(do_run(runs[0]));
+        if (m >= 0) set_base_k(std::max(user.k, m + kBudgetKMargin), 1);
+        i0 = 1;
+    }
+    for (std::size_t i = i0; i < runs.size(); ++i) {
+        progress.update(double(i) / double(runs.size()));
+        nlohmann::json& j = do_run(runs[i]);
+        if (algo != "havs" || runs[i].o.k != base_k || max_fragments(j) <= base_k) continue;
+        // A pixel holds more fragments than the baseline's k: the baseline is sized again and redone; a factor run
+        // is marked (its error then includes the sort's).
+        if (runs[i].name == "baseline") {
+            rendered.runs.erase(switches_json(algo, runs[i].o).dump());
+            set_base_k(max_fragments(j) + kBudgetKMargin, i);
+            --i;
+        } else {
+            j["k_overflow"] = true;
         }
-        rendered.runs[key] = {dir + "/runs/" + r.name, j};
-        store(r, std::move(j));
     }
     progress.finish();
     const nlohmann::json& b = out["baseline"];

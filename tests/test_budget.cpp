@@ -112,6 +112,9 @@ TEST_CASE("each factor run of uvr budget differs from the baseline by its own sw
         CHECK(base["interpolation"] == "exact");
         CHECK(base["coverage"] == "exact");
         CHECK(base["threshold"] == 1.0);
+        // HAVS's baseline k holds the fullest pixel's fragments (sized from the total's count, bench/budget.h).
+        if (std::string(algo) == "havs")
+            CHECK(base["k"].get<int>() >= b["baseline"]["stats"]["max_fragments_per_pixel"].get<int>());
         const char* sort_switch = std::string(algo) == "havs" ? "k" : "order";
         REQUIRE(b["factor_order"] ==
                 nlohmann::json::array({"sort", "table", "interpolation", "coverage", "termination"}));
