@@ -30,7 +30,7 @@ struct AlgoOptions {
     std::string order = "mpvonc";  // VICP's cell order
     std::string coverage = "gpu";  // HAVS and VICP: gpu (the rasterizer's) | exact (emulation only)
     // gpu (the rasterizer's interpolated varyings: the seed's pipeline) | exact (double from the pixel's ray). Empty:
-    // the algorithm's default (HAVS gpu; VICP and the ray caster exact, their only mode until issue 25).
+    // the algorithm's default (gpu for HAVS, VICP and the ray caster: the seeds' pipelines, SPEC §7).
     std::string interpolation;
     // HAVS: marked (uvr's entries: exit, entry and extrapolated fragments told apart) | seed (the program as printed:
     // the scalar itself, exit faces negative). Empty: the backend's default (seed with --backend arb, else marked).
