@@ -88,12 +88,14 @@ Image count_image(const std::vector<uint32_t>& counts, int width, int height)
 
 std::vector<BudgetFactor> budget_factors(const std::string& algo)
 {
-    // Each factor's switch, applied to the baseline's options from the user's.
+    // Each factor's switch, applied to the baseline's options from the user's; the three every algorithm has.
     const auto table = [](AlgoOptions& run, const AlgoOptions& user) {
         run.segment = user.segment;
         run.table_size = user.table_size;
         run.table_format = user.table_format;
     };
+    const auto interpolation = [](AlgoOptions& run, const AlgoOptions& user) { run.interpolation = user.interpolation; };
+    const auto termination = [](AlgoOptions& run, const AlgoOptions& user) { run.threshold = user.threshold; };
     std::vector<BudgetFactor> f;
     if (algo == "raycast") {
         f.push_back({"step", "the step: the ray samples the volume every step and takes the scalar as linear between "
@@ -112,9 +114,9 @@ std::vector<BudgetFactor> budget_factors(const std::string& algo)
         f.push_back({"interpolation", "the seed's passes: each ray's entry and exit from the box's faces as the "
                                       "rasterizer interpolates their texture coordinates, instead of the ray against "
                                       "the box in double",
-                     [](AlgoOptions& run, const AlgoOptions& user) { run.interpolation = user.interpolation; }});
+                     interpolation});
         f.push_back({"termination", "early termination: the march stops once the opacity passes the threshold",
-                     [](AlgoOptions& run, const AlgoOptions& user) { run.threshold = user.threshold; }});
+                     termination});
         return f;
     }
     if (algo == "havs")
@@ -131,12 +133,12 @@ std::vector<BudgetFactor> budget_factors(const std::string& algo)
     f.push_back({"interpolation", "the rasterizer's interpolation: the fragment's values from the seed's interpolated "
                                   "varyings (float, perspective-correct) instead of computed in double from the pixel's "
                                   "ray",
-                 [](AlgoOptions& run, const AlgoOptions& user) { run.interpolation = user.interpolation; }});
+                 interpolation});
     f.push_back({"coverage", "the rasterizer's coverage: pixels chosen by the snapped (fixed-point) triangle instead of "
                              "by the ray through the pixel centre crossing the primitive",
                  [](AlgoOptions& run, const AlgoOptions& user) { run.coverage = user.coverage; }});
     f.push_back({"termination", "early termination: a pixel stops compositing once its opacity passes the threshold",
-                 [](AlgoOptions& run, const AlgoOptions& user) { run.threshold = user.threshold; }});
+                 termination});
     return f;
 }
 
@@ -193,7 +195,7 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
     for (Run& r : runs) {
         if (user.backend == "gl" && r.o.segment != "exact" && r.o.coverage != "exact") r.o.backend = "gl";
         // VICP's seed has no varyings where the rasterizer makes no fragment: its interpolation factor keeps the
-        // rasterizer's coverage (docs/budget.md, "VICP's interpolation factor").
+        // rasterizer's coverage (docs/budget.md, "Decisions").
         if (algo == "vicp" && r.name == "interpolation" && r.o.interpolation == "gpu") r.o.coverage = "gpu";
         find_algorithm(algo).check_options(r.o);
     }

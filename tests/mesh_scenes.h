@@ -57,6 +57,15 @@ inline Camera looking(const glm::dvec3& eye, const glm::dvec3& target, double fo
     return cam;
 }
 
+// The default camera's orbit at (az, el), orthographic, the image as tall as the mesh's bounding diagonal.
+inline Camera orthographic_view(const TetMesh& mesh, double az, double el)
+{
+    Camera cam = default_camera(mesh_bounds(mesh), 1.0, az, el);
+    cam.orthographic = true;
+    cam.ortho_height = glm::length(mesh_bounds(mesh).extent());
+    return cam;
+}
+
 // A view of a mesh from inside: from the centroid of its middle cell towards a point above its bounds' centre.
 inline Camera inside_view(const Scene& s)
 {

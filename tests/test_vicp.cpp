@@ -65,9 +65,7 @@ TEST_CASE("VICP with exact segments and the MPVONC order equals the reference")
     SECTION("an orthographic view of the torus")
     {
         const Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
-        Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 20.0, 50.0);
-        cam.orthographic = true;
-        cam.ortho_height = glm::length(mesh_bounds(s.mesh).extent());
+        const Camera cam = test::orthographic_view(s.mesh, 20.0, 50.0);
         check(s, cam, 160);
     }
 }

@@ -93,17 +93,13 @@ TEST_CASE("VICP with the seed's interpolation, orthographic: issue 6's bars hold
     SECTION("the built-in torus")
     {
         const Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
-        Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 20.0, 50.0);
-        cam.orthographic = true;
-        cam.ortho_height = glm::length(mesh_bounds(s.mesh).extent());
+        const Camera cam = test::orthographic_view(s.mesh, 20.0, 50.0);
         check(s, cam, 160);
     }
     SECTION("Blunt Fin")
     {
         const Scene s = test::blunt_fin();
-        Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, -40.0, 70.0);
-        cam.orthographic = true;
-        cam.ortho_height = glm::length(mesh_bounds(s.mesh).extent());
+        const Camera cam = test::orthographic_view(s.mesh, -40.0, 70.0);
         check(s, cam, 256);
     }
 }

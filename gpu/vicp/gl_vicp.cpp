@@ -169,20 +169,20 @@ void GlVicpRenderer::draw_exact(const VicpFrameSetup& fs, std::size_t begin, std
     const GLint slot_base = gl_->program->uniform("vicp_slot_base", true);
     const std::vector<VicpCell>& stream = fs.stream;
     const std::size_t chunk = cells_per_draw();
-    // The first cut cell at or after `begin`.
-    std::size_t cut = std::size_t(std::lower_bound(fs.cuts.begin(), fs.cuts.end(), begin,
-                                                   [](const VicpCut& c, std::size_t s) { return c.slot < s; }) -
-                                  fs.cuts.begin());
+    // The first cut cell at or after slot `s`, searched from cut `from` on.
+    const auto first_cut = [&fs](std::size_t from, std::size_t s) {
+        return std::size_t(std::lower_bound(fs.cuts.begin() + std::ptrdiff_t(from), fs.cuts.end(), s,
+                                            [](const VicpCut& c, std::size_t slot) { return c.slot < slot; }) -
+                           fs.cuts.begin());
+    };
+    std::size_t cut = first_cut(0, begin);
     std::vector<GLint> firsts;
     std::vector<GLsizei> sizes;
     for (std::size_t c0 = begin; c0 < end; c0 += chunk) {
         const std::size_t n = std::min(chunk, end - c0);
         gl_->upload(kStream, stream.data() + c0, n * sizeof(VicpCell), GL_STREAM_DRAW);
         // The chunk's cut cells and their fans; the fans' vertex IDs start after the whole cells'.
-        const std::size_t cut_end = std::size_t(std::lower_bound(fs.cuts.begin() + std::ptrdiff_t(cut), fs.cuts.end(),
-                                                                 c0 + n,
-                                                                 [](const VicpCut& c, std::size_t s) { return c.slot < s; }) -
-                                                fs.cuts.begin());
+        const std::size_t cut_end = first_cut(cut, c0 + n);
         const std::size_t fan0 = cut < cut_end ? fs.cuts[cut].first : 0;
         const std::size_t fan1 = cut < cut_end ? fs.cuts[cut_end - 1].first + fs.cuts[cut_end - 1].count : 0;
         const uint32_t empty[4] = {0, 0, 0, 0};  // a buffer is never empty

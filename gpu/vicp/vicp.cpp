@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <cmath>
+#include <cstring>
 #include <functional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
-#include <cmath>
-#include <cstring>
 
 #include "gpu/pipeline/exact_coverage.h"
 #include "gpu/pipeline/rasterize.h"
@@ -135,10 +135,10 @@ void VicpRenderer::composite_seed(const VicpFrameConstants& fc, const VicpFrameS
             entry_planes[c] = attribute_plane(planes.setup, sv, x, Qualifier::smooth);
         }
         for_each_fragment_in_tile(ts, tile, [&](int px, int py) {
-            const VicpSeedExit e = vicp_seed_exit(vicp_seed_varyings_at(planes, px, py, arith));
+            const float factor = perspective_factor(planes.setup, px, py, arith);  // shared by every smooth input
+            const VicpSeedExit e = vicp_seed_exit(vicp_seed_varyings_at(planes, px, py, factor, arith));
             glm::vec3 entry;
-            interpolate(entry_planes, 3, Qualifier::smooth, px, py, perspective_factor(planes.setup, px, py, arith),
-                        arith, &entry[0]);
+            interpolate(entry_planes, 3, Qualifier::smooth, px, py, factor, arith, &entry[0]);
             const double t_in = double(vicp_seed_entry_distance(view, entry));
             const VicpSegment seg{e.s_front, e.s_back, t_in, t_in + double(e.length), e.length};
             const VicpSegment exact = vicp_fragment_values(fc, tet, px, py);
@@ -209,6 +209,7 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
     std::vector<uint32_t> wrong_exits(seed ? npix : 0);  // per pixel, GL rows
     std::vector<float> length_error(seed ? npix : 0);
     if (seed) {
+        const FlushDenormals llvmpipe_mxcsr;  // the draw module's viewport transform runs so (gpu/pipeline/denormals.h)
         setup.resize(fs.points_f.size());
         for (std::size_t i = 0; i < setup.size(); ++i)
             setup[i] = setup_vertex(vertex_position(fs.view, fs.points_f[i]).data(), fbuf);

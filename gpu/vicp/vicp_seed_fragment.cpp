@@ -39,7 +39,11 @@ VicpSeedPlanes vicp_seed_planes(const SetupVertex sv[3], const VicpSeedVaryings 
 
 VicpSeedVaryings vicp_seed_varyings_at(const VicpSeedPlanes& p, int px, int py, ViewportArithmetic arith)
 {
-    const float factor = perspective_factor(p.setup, px, py, arith);
+    return vicp_seed_varyings_at(p, px, py, perspective_factor(p.setup, px, py, arith), arith);
+}
+
+VicpSeedVaryings vicp_seed_varyings_at(const VicpSeedPlanes& p, int px, int py, float factor, ViewportArithmetic arith)
+{
     VicpSeedVaryings v;
     for (int c = 0; c < 3; ++c) {
         v.distance[c] = interpolate(p.distance[c], Qualifier::smooth, px, py, factor, arith);

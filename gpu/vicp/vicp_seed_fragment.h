@@ -40,5 +40,8 @@ struct VicpSeedPlanes {
 };
 VicpSeedPlanes vicp_seed_planes(const SetupVertex sv[3], const VicpSeedVaryings v[3], const TriangleSetup& ts);
 VicpSeedVaryings vicp_seed_varyings_at(const VicpSeedPlanes& planes, int px, int py, ViewportArithmetic arith);
+// The same with the pixel's perspective_factor given (a fragment with more `smooth` inputs computes it once).
+VicpSeedVaryings vicp_seed_varyings_at(const VicpSeedPlanes& planes, int px, int py, float factor,
+                                       ViewportArithmetic arith);
 
 }  // namespace uvr::gpu
