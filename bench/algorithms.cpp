@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "bench/progress.h"
@@ -17,13 +18,34 @@
 
 namespace uvr::cli {
 
+int parse_k(const std::string& v)
+{
+    if (v == "all") return gpu::kEveryFragment;
+    char* end = nullptr;
+    const long k = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0' || k < 1 || k > std::numeric_limits<int>::max())
+        throw CLI::ValidationError("--k", "must be a whole number of at least 1, or all, not '" + v + "'");
+    return int(k);
+}
+
+nlohmann::json k_json(int k)
+{
+    if (k == gpu::kEveryFragment) return "all";
+    return k;
+}
+
 void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
 {
     cmd.add_option("--backend", o.backend,
                    "emu | gl | arb (HAVS only: the seed's own ARB programs under an OSMesa compatibility context)")
         ->capture_default_str();
     cmd.add_option("--gl", o.gl, "With --backend gl: osmesa | egl")->capture_default_str();
-    if (with_k) cmd.add_option("--k", o.k, "HAVS: k-buffer entries")->capture_default_str();
+    if (with_k)
+        cmd.add_option_function<std::string>(
+               "--k", [&o](const std::string& v) { o.k = parse_k(v); },
+               "HAVS: k-buffer entries, or all (every fragment of a pixel held until the flush: the exact sort; "
+               "emulation only)")
+            ->default_str(std::to_string(o.k));
     cmd.add_option("--segment", o.segment, "HAVS: table | exact (emulation only)")->capture_default_str();
     cmd.add_option("--gaps", o.gaps, "HAVS: exact | maxgap (VTK's heuristic)")->capture_default_str();
     cmd.add_option("--order", o.order, "VICP: cell order, mpvonc | centroid")->capture_default_str();
@@ -295,7 +317,7 @@ public:
         AlgoResult r;
         const auto& st = f.stats;
         const gpu::HavsMesh& hm = emu_ ? emu_->cpu_stage() : arb_ ? arb_->cpu_stage() : gl_->cpu_stage();
-        r.stats = {{"k", a_.k},
+        r.stats = {{"k", k_json(a_.k)},
                    {"entries", hm.options().entries == gpu::EntryEncoding::seed ? "seed" : "marked"},
                    {"segment", a_.segment},
                    {"gaps", a_.gaps},
@@ -493,7 +515,7 @@ std::vector<Algorithm> make_registry()
                      const bool arb = a.backend == "arb";
                      const std::string entries =
                          a.entries.empty() || a.entries == (arb ? "seed" : "marked") ? "" : "-" + a.entries + "-entries";
-                     return "havs-" + a.backend + "-k" + std::to_string(a.k) +
+                     return "havs-" + a.backend + "-k" + (a.k == gpu::kEveryFragment ? "all" : std::to_string(a.k)) +
                             (a.interpolation == "exact" ? "-exact-interpolation" : "") + entries;
                  },
                  [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {

@@ -24,7 +24,7 @@ struct AlgoOptions {
     std::string gl = "osmesa";  // --backend gl: osmesa | egl
     bool require_diagnostics = false;  // render --diagnostics: refuse a configuration that cannot produce them
     bool diagnostics = true;   // per-pixel diagnostics where the backend can give them (bench times without)
-    int k = 6;
+    int k = 6;  // or gpu::kEveryFragment (--k all)
     std::string segment = "table";
     std::string gaps = "exact";
     std::string order = "mpvonc";  // VICP's cell order
@@ -56,6 +56,9 @@ struct AlgoOptions {
 // --backend, --gl, --k (unless with_k is false: sweep takes a list), --segment, --gaps, --threshold, --table-size,
 // --table-format, --no-cache.
 void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k = true);
+// --k's value: a whole number >= 1, or "all" (gpu::kEveryFragment); and k as JSON (a number, or "all").
+int parse_k(const std::string& v);
+nlohmann::json k_json(int k);
 gpu::HavsOptions havs_options(const AlgoOptions& o);
 gpu::VicpOptions vicp_options(const AlgoOptions& o);
 gpu::RaycastOptions raycast_options(const AlgoOptions& o);

@@ -13,12 +13,6 @@
 
 namespace uvr::cli {
 
-// The baseline's k for HAVS, before the scene's own count sizes it: more than any tested scene puts on one pixel
-// (tests/havs_convergence.h's 255). run_budget then takes the most fragments the total put on a pixel plus
-// kBudgetKMargin, and again from the baseline's own count if that is more (exact coverage can add a fragment where the
-// rasterizer's drops one, and the reverse: the study saw 122 against 131 on the Oxygen Post).
-inline constexpr int kBudgetBaselineK = 255;
-inline constexpr int kBudgetKMargin = 8;
 // The ray caster's baseline step: the user's divided by this. Its march is first order (docs/raycast.md), so the
 // baseline keeps about 1/16 of the step's error; the budget reports it and checks it stays below the step factor's
 // (kBudgetStepBaselineShare).

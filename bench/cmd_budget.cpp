@@ -45,7 +45,7 @@ nlohmann::json switches_json(const std::string& algo, const AlgoOptions& o)
                         {"coverage", o.coverage},
                         {"threshold", o.threshold},
                         {"backend", o.backend}};
-    if (algo == "havs") j["k"] = o.k;
+    if (algo == "havs") j["k"] = k_json(o.k);
     if (algo == "vicp") j["order"] = o.order;
     if (algo == "raycast") {
         j["step"] = o.step;
@@ -150,7 +150,7 @@ AlgoOptions budget_baseline(const std::string& algo, const AlgoOptions& user)
     b.interpolation = "exact";
     b.coverage = "exact";
     b.threshold = 1.0;
-    if (algo == "havs") b.k = kBudgetBaselineK;
+    if (algo == "havs") b.k = gpu::kEveryFragment;  // every fragment held: the exact sort
     if (algo == "vicp") b.order = "mpvonc";
     if (algo == "raycast") {
         b.coverage = user.coverage;  // no exact variant
@@ -235,7 +235,7 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
         out["factors"][r.name] = std::move(j);
     };
     // One run: taken from an earlier run with the same switches, or rendered; its JSON stored. Returns its JSON.
-    const auto do_run = [&](const Run& r) -> nlohmann::json& {
+    const auto do_run = [&](const Run& r) {
         const std::string key = switches_json(algo, r.o).dump();
         if (const auto same = rendered.runs.find(key); same != rendered.runs.end()) {
             const auto& [from_base, from_json] = same->second;
@@ -275,41 +275,10 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
             rendered.runs[key] = {dir + "/runs/" + r.name, j};
             store(r, std::move(j));
         }
-        return r.name == "baseline" || r.name == "total" ? out[r.name] : out["factors"][r.name];
     };
-    // The most fragments a run put on one pixel (HAVS's diagnostics), or -1 when the run did not count them.
-    const auto max_fragments = [](const nlohmann::json& j) {
-        const nlohmann::json& st = j["stats"];
-        return st.contains("max_fragments_per_pixel") ? st["max_fragments_per_pixel"].get<int>() : -1;
-    };
-    // HAVS's baseline k holds every fragment of the fullest pixel: the total is rendered first and its count, with a
-    // margin, sizes the runs at the baseline's k (a smaller k is also faster: the k-buffer's work grows with k).
-    std::size_t i0 = 0;
-    int base_k = base.k;
-    const auto set_base_k = [&](int k, std::size_t from) {
-        for (std::size_t i = from; i < runs.size(); ++i)
-            if (runs[i].o.k == base_k && runs[i].name != "sort" && runs[i].name != "total") runs[i].o.k = k;
-        base_k = k;
-    };
-    if (algo == "havs") {
-        std::rotate(runs.begin(), runs.end() - 1, runs.end());  // the total first
-        const int m = max_fragments(do_run(runs[0]));
-        if (m >= 0) set_base_k(std::max(user.k, m + kBudgetKMargin), 1);
-        i0 = 1;
-    }
-    for (std::size_t i = i0; i < runs.size(); ++i) {
+    for (std::size_t i = 0; i < runs.size(); ++i) {
         progress.update(double(i) / double(runs.size()));
-        nlohmann::json& j = do_run(runs[i]);
-        if (algo != "havs" || runs[i].o.k != base_k || max_fragments(j) <= base_k) continue;
-        // A pixel holds more fragments than the baseline's k: the baseline is sized again and redone; a factor run
-        // is marked (its error then includes the sort's).
-        if (runs[i].name == "baseline") {
-            rendered.runs.erase(switches_json(algo, runs[i].o).dump());
-            set_base_k(max_fragments(j) + kBudgetKMargin, i);
-            --i;
-        } else {
-            j["k_overflow"] = true;
-        }
+        do_run(runs[i]);
     }
     progress.finish();
     const nlohmann::json& b = out["baseline"];

@@ -121,7 +121,12 @@ AlgoOptions algo_options(const py::kwargs& kwargs)
         try {
             if (key == "backend") o.backend = v.cast<std::string>();
             else if (key == "gl") o.gl = v.cast<std::string>();
-            else if (key == "k") o.k = v.cast<int>();
+            else if (key == "k") {
+                // A whole number >= 1, or "all" (every fragment held: uvr::gpu::kEveryFragment, never a number).
+                const bool text = py::isinstance<py::str>(v), all = text && v.cast<std::string>() == "all";
+                o.k = all ? uvr::gpu::kEveryFragment : text ? 0 : v.cast<int>();
+                if (!all && o.k < 1) throw InputError("", "option 'k' must be a whole number of at least 1, or 'all'");
+            }
             else if (key == "segment") o.segment = v.cast<std::string>();
             else if (key == "gaps") o.gaps = v.cast<std::string>();
             else if (key == "order") o.order = v.cast<std::string>();

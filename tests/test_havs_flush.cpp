@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "case_rng.h"
+#include "kbuffer_shade.h"
 #include "gpu/havs/havs.h"
 #include "gpu/havs/havs_fragment.h"
 #include "havs_convergence.h"
@@ -20,13 +21,8 @@ using namespace uvr::gpu;
 
 namespace {
 
-// A segment colour that depends on every argument, so that a segment composited from the wrong pair, or in the wrong
-// order, changes the framebuffer's bits.
-glm::vec4 shade_of(float uf, float ub, float tz, float length)
-{
-    const float h = std::fabs(std::sin(uf * 12.9898f + ub * 78.233f + tz * 37.719f + length * 3.1f));
-    return glm::vec4(0.3f * h, 0.2f * (1.0f - h), 0.1f * uf, 0.05f + 0.2f * h);
-}
+using test::same_bits;
+using test::shade_of;
 
 // Random k-buffer contents as the geometry passes leave them: real entries of every kind (exit, interior,
 // extrapolated, entry) at distances drawn from a few values (ties), empty entries, sometimes a NaN distance.
@@ -53,8 +49,6 @@ struct FlushGen : test::CaseRng {
         return e;
     }
 };
-
-bool same_bits(const glm::vec4& a, const glm::vec4& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 }  // namespace
 

@@ -115,6 +115,8 @@ const HavsOptions& checked_gl_options(const GlContext& ctx, const HavsOptions& o
                              "program samples the pre-integrated table");
     if (o.coverage == Coverage::exact)
         throw InputError("", "--coverage exact runs only in the emulation (--backend emu): a GPU's rasterizer snaps");
+    if (o.k == kEveryFragment)
+        throw InputError("", "--k all runs only in the emulation (--backend emu): a GPU's k-buffer has a fixed depth");
     const int kmax = GlHavsRenderer::max_k(info, diagnostics);
     if (o.k < 1 || o.k > kmax)
         throw InputError("", "--k must be between 1 and " + std::to_string(kmax) + " with --backend gl on " +

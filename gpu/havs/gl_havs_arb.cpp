@@ -69,7 +69,8 @@ void check_arb_options(const HavsOptions& o)
     auto refuse = [](const std::string& what) {
         throw InputError("", "--backend arb runs the seed's programs as printed: " + what);
     };
-    if (o.k != kArbK) refuse("k is 6 (three textures of two entries), not " + std::to_string(o.k));
+    if (o.k != kArbK) refuse("k is 6 (three textures of two entries), not " +
+                                (o.k == kEveryFragment ? std::string("all") : std::to_string(o.k)));
     if (o.entries != EntryEncoding::seed) refuse("they need --entries seed (the scalar is the table coordinate)");
     if (o.segment != SegmentMode::table) refuse("they sample the pre-integrated table (--segment table)");
     if (o.threshold != 0.99f) refuse("their kill is at 0.99 (--threshold 0.99)");

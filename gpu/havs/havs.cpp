@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "gpu/havs/havs_kbuffer.h"
+#include "gpu/havs/havs_pixel_sort.h"
 #include "gpu/havs/havs_seed_span.h"
 #include "gpu/pipeline/rasterize.h"
 #include "gpu/pipeline/denormals.h"
@@ -30,9 +31,25 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 const HavsOptions& checked_k(const HavsOptions& options)
 {
-    if (options.k < 1) throw InputError("", "--k must be at least 1");
+    if (options.k < 1 && options.k != kEveryFragment) throw InputError("", "--k must be at least 1, or all");
     return options;
 }
+
+// The k-buffer program on each fragment as it arrives, for one tile (the frame's draw; `close` does nothing).
+template <class Program>
+struct KBufferTile {
+    const Program& program;
+    KEntry* kbuf;
+    glm::vec4* fb;
+    KBufferDiagnostics* diag;
+    int width, k;
+    void operator()(const KEntry& e, int px, int py) const
+    {
+        const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
+        program(e, kbuf + p * std::size_t(k), fb[p], diag ? diag + p : nullptr);
+    }
+    void close() const {}
+};
 
 // The emulated k-buffer holds k entries of 8 bytes a pixel. It may take at most half of the machine's memory, so
 // that the mesh, its topology and the frame's other buffers still fit; a larger k is refused before any work.
@@ -96,7 +113,9 @@ HavsRenderer::~HavsRenderer() = default;
 
 HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
 {
-    check_kbuffer_memory(mesh_.options().k, width, height);
+    const int k = mesh_.options().k;
+    const bool every_fragment = k == kEveryFragment;  // --k all: havs_pixel_sort.h, no k-buffer
+    if (!every_fragment) check_kbuffer_memory(k, width, height);
     HavsFrame out;
     HavsStats& st = out.stats;
     st.table_ms = mesh_.table_ms();
@@ -129,9 +148,8 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
         segment_shader(mesh_.table(), mesh_.options().filter, mesh_.integrator(), mesh_.range());
 
     // Per-pixel state, GL rows (from the bottom).
-    const int k = mesh_.options().k;
     const std::size_t npix = std::size_t(width) * std::size_t(height);
-    HugeVector<KEntry> kbuf(npix * std::size_t(k), kEmptyEntry);
+    HugeVector<KEntry> kbuf(npix * std::size_t(k), kEmptyEntry);  // none under --k all
     HugeVector<glm::vec4> fb(npix, glm::vec4(0.0f));
     std::vector<KBufferDiagnostics> diag(diagnostics_ ? npix : 0);
     KBufferDiagnostics* const diag_at = diagnostics_ ? diag.data() : nullptr;  // pixel p's: diag_at + p
@@ -143,9 +161,11 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     const HavsSeedVertices seed = seed_varyings ? havs_seed_vertices(fs) : HavsSeedVertices{};
     st.setup_ms += ms_since(t0);
 
-    // The tiles, with the k-buffer program `kbuffer(entry, entries, framebuffer, diagnostics)` (havs_kbuffer.h).
-    const auto draw = [&](const auto& kbuffer) {
+    // The tiles: `open_tile(tile)` gives the tile's fragment sink, sink(entry, px, py) in arrival order, then
+    // sink.close() (KBufferTile: the k-buffer program as each fragment arrives; PixelSortTile: --k all).
+    const auto draw = [&](const auto& open_tile) {
         tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
+            auto sink = open_tile(tile);
             // A span's entries (--interpolation gpu): made once a tile, as initializing them for every span took a
             // quarter of this loop's own time.
             KEntry entries[ScreenTiles::kTile];
@@ -178,10 +198,7 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
                     else
                         for_each_fragment_in_tile(ts, tile, fragment);
                 };
-                const auto apply = [&](const KEntry& e, int px, int py) {
-                    const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
-                    kbuffer(e, &kbuf[p * std::size_t(k)], fb[p], diag_at ? diag_at + p : nullptr);
-                };
+                const auto apply = [&](const KEntry& e, int px, int py) { sink(e, px, py); };
                 if (seed_varyings) {
                     // --interpolation gpu: the seed's varyings through the interpolation stage, the side a flat
                     // attribute.
@@ -215,19 +232,35 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
                 if (face.side == kSideExit && facing != Facing::back) face.side = kSideEntry;
                 visit([&](int px, int py) { apply(havs_fragment_entry(fc, face, px, py, exact_coverage), px, py); });
             }
+            sink.close();
         });
     };
     // The seed's k with the table's usual path: the program instantiated with k fixed and the sample called directly
     // (the same operations, so the same bits: tests/test_havs_kbuffer.cpp), which takes a tenth off the frame's
-    // raster+fragment time (docs/gl-backend.md, "Speed"). Anything else: the run-time instance.
+    // raster+fragment time (docs/gl-backend.md, "Speed"). Anything else: the run-time instance. --k all: each
+    // pixel's fragments sorted once a tile (havs_pixel_sort.h), composited there.
     t0 = Clock::now();
     const std::optional<TableSegmentShader> table_path = table_segment_shader(mesh_.table(), mesh_.options().filter);
-    if (table_path && k == kbuffer_program::kSeedK) {
-        draw([&](KEntry e, KEntry* entries, glm::vec4& colour, KBufferDiagnostics* d) {
+    const auto kbuffer_tiles = [&](const auto& program) {
+        draw([&](const TileRect&) {
+            return KBufferTile<std::decay_t<decltype(program)>>{program, kbuf.data(), fb.data(), diag_at, width, k};
+        });
+    };
+    const auto pixel_sort_tiles = [&](const auto& shade_as) {
+        draw([&](const TileRect& tile) {
+            return PixelSortTile<std::decay_t<decltype(shade_as)>>(tile, fc, fb.data(), diag_at, width, shade_as);
+        });
+    };
+    if (every_fragment && table_path) {
+        pixel_sort_tiles(*table_path);
+    } else if (every_fragment) {
+        pixel_sort_tiles(shade);
+    } else if (table_path && k == kbuffer_program::kSeedK) {
+        kbuffer_tiles([&](KEntry e, KEntry* entries, glm::vec4& colour, KBufferDiagnostics* d) {
             return kbuffer_program::run<kbuffer_program::kSeedK>(fc, e, entries, k, colour, *table_path, d);
         });
     } else {
-        draw([&](KEntry e, KEntry* entries, glm::vec4& colour, KBufferDiagnostics* d) {
+        kbuffer_tiles([&](KEntry e, KEntry* entries, glm::vec4& colour, KBufferDiagnostics* d) {
             return kbuffer_program::run<0>(fc, e, entries, k, colour, shade, d);
         });
     }
@@ -253,9 +286,9 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
                                            diag_at ? diag_at + p : nullptr);
         });
     };
-    if (table_path)
+    if (!every_fragment && table_path)  // --k all composited with each tile
         flush_all(*table_path);
-    else
+    else if (!every_fragment)
         flush_all(shade);
     st.flush_ms = ms_since(t0);
 

@@ -217,6 +217,27 @@ bool run(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& f
     }
 }
 
+// The flush's runs once the order is known: `n` entries, entry_at(0) .. entry_at(n - 1) in the order the runs take
+// them out, each run's second entry the next run's front, the last run's the flush fragment. Shared by flush and
+// --k all (gpu/havs/havs_pixel_sort.h).
+template <class EntryAt, class Shade>
+void composite_in_order(const HavsFrameConstants& fc, int n, const EntryAt& entry_at, glm::vec4& fb,
+                        const Shade& shade, KBufferDiagnostics* diag)
+{
+    const KEntry flush = fc.seed_entries ? kSeedFlushFragment : kFlushFragment;
+    if (n < 1) return;
+    KEntry front = entry_at(0);
+    for (int pass = 0; pass < n; ++pass) {
+        if (fc.threshold - fb.a < 0.0f) return;  // KIL: this run and every later one write nothing
+        // Once the front is a flush fragment, so is every later entry: the runs composite nothing. (The seed's
+        // entries run them: their MAD of a zero colour turns a -0 channel into +0, as the ARB program does.)
+        if (!fc.seed_entries && std::isinf(front.y)) return;
+        KEntry second = pass + 1 < n ? entry_at(pass + 1) : flush;
+        if (composite_segment(fc, front, second, fb, shade, diag)) second.x = -second.x;
+        front = second;
+    }
+}
+
 // The flush (havs_flush's contract), for any segment shader.
 template <class Shade>
 void flush(const HavsFrameConstants& fc, const KEntry* a, int k, glm::vec4& fb, const Shade& shade,
@@ -241,16 +262,7 @@ void flush(const HavsFrameConstants& fc, const KEntry* a, int k, glm::vec4& fb, 
     }
     std::sort(order.begin(), order.end(),
               [a](uint32_t i, uint32_t j) { return a[i].y < a[j].y || (a[i].y == a[j].y && i > j); });
-    KEntry front = a[order[0]];
-    for (int pass = 0; pass < k; ++pass) {
-        if (fc.threshold - fb.a < 0.0f) return;  // KIL: this run and every later one write nothing
-        // Once the front is a flush fragment, so is every later entry: the runs composite nothing. (The seed's
-        // entries run them: their MAD of a zero colour turns a -0 channel into +0, as the ARB program does.)
-        if (!fc.seed_entries && std::isinf(front.y)) return;
-        KEntry second = pass + 1 < k ? a[order[std::size_t(pass) + 1]] : flush;
-        if (composite_segment(fc, front, second, fb, shade, diag)) second.x = -second.x;
-        front = second;
-    }
+    composite_in_order(fc, k, [&](int i) { return a[order[std::size_t(i)]]; }, fb, shade, diag);
 }
 
 }  // namespace uvr::gpu::kbuffer_program

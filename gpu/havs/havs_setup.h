@@ -35,8 +35,12 @@ enum class GapMode { exact, maxgap };     // --gaps: exit faces marked (exact), 
 // (the scalar itself, an exit face's negative: the program as printed, which the ARB witness runs). docs/havs-arb.md.
 enum class EntryEncoding { marked, seed };
 
+// --k all: the k-buffer as deep as each pixel's fragments (every fragment held until the flush; the emulation's
+// only). SPEC §6's exact sort, at the memory of the fragments themselves: gpu/havs/havs_pixel_sort.h.
+inline constexpr int kEveryFragment = 0;
+
 struct HavsOptions {
-    int k = 6;
+    int k = 6;  // entries a pixel, or kEveryFragment
     SegmentMode segment = SegmentMode::table;
     GapMode gaps = GapMode::exact;
     float threshold = 0.99f;  // the opacity kill; 1 switches early termination off

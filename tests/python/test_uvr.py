@@ -84,6 +84,11 @@ def test_options_reach_the_renderer(tmp_path):
     assert not same_bits(mine, uvr.render(scene, "havs"))
     assert info["stats"]["k"] == 2
     assert info["ms"] > 0
+    # k="all": every fragment held (the program's --k all), the bits of a k above the fullest pixel.
+    every_k, every_k_info = uvr.render(scene, "havs", k="all", with_stats=True)
+    assert every_k_info["stats"]["k"] == "all"
+    assert same_bits(every_k, program_image(tmp_path, "builtin:torus-small", "havs", *SMALL_ARGS, "--k", "all"))
+    assert same_bits(every_k, uvr.render(scene, "havs", k=255))  # more than this scene puts on a pixel
     # send reaches the GL driver: every face sent (none left out), the same bits as the covered ones alone.
     every, every_info = uvr.render(scene, "havs", backend="gl", send="all", with_stats=True)
     covered, covered_info = uvr.render(scene, "havs", backend="gl", with_stats=True)
@@ -223,7 +228,6 @@ def test_bad_input_raises_uvr_error_with_uvrs_message(tmp_path):
         (lambda: uvr.Scene(str(tmp_path / "missing.vtk")), "missing.vtk"),
         (lambda: uvr.Scene(str(tmp_path / "broken.vtk")), "broken.vtk"),
         (lambda: uvr.render(scene, "splatting"), "splatting"),
-        (lambda: uvr.render(scene, "havs", k="six"), "option 'k' has the wrong type"),
         (lambda: uvr.render(scene, "havs", kay=6), "unknown option 'kay'"),
         (lambda: uvr.render(scene, "havs", backend="arb", k=4), "k is 6"),
         (lambda: uvr.mesh(points[:, :2], tets, scalars), "points must be an N x 3 array"),
@@ -233,7 +237,8 @@ def test_bad_input_raises_uvr_error_with_uvrs_message(tmp_path):
         (lambda: uvr.mesh(points, tets, scalars[:-1]), "arrays"),
         (lambda: uvr.volume(np.zeros((4, 4))), "Z x Y x X"),
         (lambda: uvr.Scene("builtin:torus-small", size=(0, 10)), "size"),
-        (lambda: uvr.render(scene, "havs", k=0), "k must be at least 1"),
+        (lambda: uvr.render(scene, "havs", k=0), "'k' must be a whole number of at least 1, or 'all'"),
+        (lambda: uvr.render(scene, "havs", k="every"), "'k' must be a whole number of at least 1, or 'all'"),
         (lambda: uvr.render(scene, "havs", backend="gl", send="some"), "send must be covered or all"),
         (lambda: uvr.render(scene, "havs", table_size=1), "table_size"),
         (lambda: uvr.Scene("builtin:torus-small", tf={"color": []}), "tf (dict)"),
