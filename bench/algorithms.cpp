@@ -46,6 +46,10 @@ void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
                "HAVS: k-buffer entries, or all (every fragment of a pixel held until the flush: the exact sort; "
                "emulation only)")
             ->default_str(std::to_string(o.k));
+    cmd.add_option("--ties", o.ties,
+                   "HAVS with --k all: arrival (at one distance the older fragment first, as a k-buffer takes them) | "
+                   "facing (back faces first: exact where a seam's coincident faces carry two scalars)")
+        ->capture_default_str();
     cmd.add_option("--segment", o.segment, "HAVS: table | exact (emulation only)")->capture_default_str();
     cmd.add_option("--gaps", o.gaps, "HAVS: exact | maxgap (VTK's heuristic)")->capture_default_str();
     cmd.add_option("--order", o.order, "VICP: cell order, mpvonc | centroid")->capture_default_str();
@@ -132,6 +136,8 @@ gpu::HavsOptions havs_options(const AlgoOptions& a)
     const TableOptions t = table_options(a, 0.99);
     gpu::HavsOptions o;
     o.k = a.k;
+    if (a.ties != "arrival" && a.ties != "facing") throw InputError("", "--ties must be arrival or facing");
+    o.ties = a.ties == "facing" ? gpu::TieOrder::facing : gpu::TieOrder::arrival;
     o.segment = t.segment;
     if (a.gaps != "exact" && a.gaps != "maxgap") throw InputError("", "--gaps must be exact or maxgap");
     o.gaps = a.gaps == "maxgap" ? gpu::GapMode::maxgap : gpu::GapMode::exact;
@@ -318,6 +324,7 @@ public:
         const auto& st = f.stats;
         const gpu::HavsMesh& hm = emu_ ? emu_->cpu_stage() : arb_ ? arb_->cpu_stage() : gl_->cpu_stage();
         r.stats = {{"k", k_json(a_.k)},
+                   {"ties", a_.ties},
                    {"entries", hm.options().entries == gpu::EntryEncoding::seed ? "seed" : "marked"},
                    {"segment", a_.segment},
                    {"gaps", a_.gaps},
@@ -516,6 +523,7 @@ std::vector<Algorithm> make_registry()
                      const std::string entries =
                          a.entries.empty() || a.entries == (arb ? "seed" : "marked") ? "" : "-" + a.entries + "-entries";
                      return "havs-" + a.backend + "-k" + (a.k == gpu::kEveryFragment ? "all" : std::to_string(a.k)) +
+                            (a.ties == "facing" ? "-facing-ties" : "") +
                             (a.interpolation == "exact" ? "-exact-interpolation" : "") + entries;
                  },
                  [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {

@@ -25,6 +25,7 @@ struct AlgoOptions {
     bool require_diagnostics = false;  // render --diagnostics: refuse a configuration that cannot produce them
     bool diagnostics = true;   // per-pixel diagnostics where the backend can give them (bench times without)
     int k = 6;  // or gpu::kEveryFragment (--k all)
+    std::string ties = "arrival";  // HAVS with --k all: arrival | facing (the order at one distance)
     std::string segment = "table";
     std::string gaps = "exact";
     std::string order = "mpvonc";  // VICP's cell order

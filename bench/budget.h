@@ -42,9 +42,11 @@ struct BudgetRunCache {
 
 // The reference, the baseline, one run per factor and the user's configuration on scene `s`, each measured against
 // the reference and written to `dir` (runs/NAME.npy, .png and -error.png; budget.json; the chart; index.html).
-// Every run's options are checked before anything is written. Returns budget.json's object.
+// Every run's options are checked before anything is written. Returns budget.json's object. With `resume` (uvr sweep
+// --budget), a budget.json already in `dir` whose every run has these switches and its image is taken as it is
+// (its runs join `cache`): an interrupted sweep goes on from the budgets it finished.
 nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOptions& options, const std::string& dir,
-                          const std::string& mesh_name, BudgetRunCache* cache = nullptr);
+                          const std::string& mesh_name, BudgetRunCache* cache = nullptr, bool resume = false);
 
 // A budget in one line of a sweep: `page` (its index.html), baseline_ok, the baseline's and the total's RMSE, each
 // factor's RMSE (`factors`) and the largest factor's name (`dominant`).

@@ -45,7 +45,7 @@ for n in $sizes; do
     [ -s "$d/metrics.json" ] && continue
     echo "interpolation factor $a ${n}x$n" >&2
     cov=exact; [ "$a" = vicp ] && cov=gpu
-    "$uvr" compare ${meshes[bluntfin]} --view "$v" --size "${n}x$n" --algos "$a" --k 255 --segment exact \
+    "$uvr" compare ${meshes[bluntfin]} --view "$v" --size "${n}x$n" --algos "$a" --k all --segment exact \
       --coverage "$cov" --threshold 1 --interpolation gpu --report "$d" > /dev/null
   done
 done

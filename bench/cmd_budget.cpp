@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -45,7 +46,10 @@ nlohmann::json switches_json(const std::string& algo, const AlgoOptions& o)
                         {"coverage", o.coverage},
                         {"threshold", o.threshold},
                         {"backend", o.backend}};
-    if (algo == "havs") j["k"] = k_json(o.k);
+    if (algo == "havs") {
+        j["k"] = k_json(o.k);
+        j["ties"] = o.ties;
+    }
     if (algo == "vicp") j["order"] = o.order;
     if (algo == "raycast") {
         j["step"] = o.step;
@@ -82,6 +86,41 @@ Image count_image(const std::vector<uint32_t>& counts, int width, int height)
         im.rgba[4 * p + 3] = 1.0f;
     }
     return im;
+}
+
+// One run of a budget: its name (baseline, a factor's, total) and options.
+struct Run {
+    std::string name;
+    AlgoOptions o;
+};
+
+// A budget already written to `dir` for these runs (uvr sweep --budget resuming): its budget.json when it parses, is
+// for this algorithm and image size, and every run in it has the switches of `runs` and its image on disk; its runs
+// then join `cache`, so that later budgets copy them as they would have.
+std::optional<nlohmann::json> finished_budget(const std::string& dir, const std::string& algo, const Scene& s,
+                                              const std::vector<Run>& runs, BudgetRunCache& cache)
+{
+    nlohmann::json b;
+    try {
+        if (!std::filesystem::exists(dir + "/budget.json")) return std::nullopt;
+        b = nlohmann::json::parse(read_file_bytes(dir + "/budget.json"));
+        if (b.value("algo", "") != algo || b.value("width", -1) != s.width || b.value("height", -1) != s.height)
+            return std::nullopt;
+        for (const Run& r : runs) {
+            const nlohmann::json& j =
+                r.name == "baseline" || r.name == "total" ? b.at(r.name) : b.at("factors").at(r.name);
+            if (j.at("switches") != switches_json(algo, r.o) ||
+                !std::filesystem::exists(dir + "/" + j.at("image").get<std::string>()))
+                return std::nullopt;
+        }
+    } catch (const std::exception&) {
+        return std::nullopt;  // a damaged or partial report is made again
+    }
+    for (const Run& r : runs) {
+        const nlohmann::json& j = r.name == "baseline" || r.name == "total" ? b[r.name] : b["factors"][r.name];
+        cache.runs.try_emplace(j["switches"].dump(), dir + "/runs/" + r.name, j);
+    }
+    return b;
 }
 
 }  // namespace
@@ -121,8 +160,12 @@ std::vector<BudgetFactor> budget_factors(const std::string& algo)
     }
     if (algo == "havs")
         f.push_back({"sort", "the k-buffer of k entries: fragments the object-space face sort leaves more than k - 1 "
-                             "places out of order are composited out of order",
-                     [](AlgoOptions& run, const AlgoOptions& user) { run.k = user.k; }});
+                             "places out of order are composited out of order, and fragments at one distance in the "
+                             "k-buffer's order (at a seam whose two faces carry different scalars, not the ray's)",
+                     [](AlgoOptions& run, const AlgoOptions& user) {
+                         run.k = user.k;
+                         run.ties = user.ties;
+                     }});
     if (algo == "vicp")
         f.push_back({"sort", "the cell order: cells composited out of visibility order (MPVONC's broken cycles, or "
                              "the centroid order's mistakes)",
@@ -150,7 +193,10 @@ AlgoOptions budget_baseline(const std::string& algo, const AlgoOptions& user)
     b.interpolation = "exact";
     b.coverage = "exact";
     b.threshold = 1.0;
-    if (algo == "havs") b.k = gpu::kEveryFragment;  // every fragment held: the exact sort
+    if (algo == "havs") {  // the exact sort: every fragment held, at one distance the cell the ray leaves first
+        b.k = gpu::kEveryFragment;
+        b.ties = "facing";
+    }
     if (algo == "vicp") b.order = "mpvonc";
     if (algo == "raycast") {
         b.coverage = user.coverage;  // no exact variant
@@ -171,7 +217,7 @@ static AlgoOptions budget_user_options(const Scene& s, const std::string& algo, 
 }
 
 nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOptions& options, const std::string& dir,
-                          const std::string& mesh_name, BudgetRunCache* cache)
+                          const std::string& mesh_name, BudgetRunCache* cache, bool resume)
 {
     if (algo != "havs" && algo != "vicp" && algo != "raycast")
         throw InputError("", "--algo must be havs, vicp or raycast");
@@ -181,10 +227,6 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
     const std::vector<BudgetFactor> factors = budget_factors(algo);
     // Every run's options, checked before anything is written. A run that GL can draw uses it when asked (the bits
     // are the emulation's): the ones with the table and the rasterizer's coverage.
-    struct Run {
-        std::string name;
-        AlgoOptions o;
-    };
     std::vector<Run> runs{{"baseline", base}};
     for (const BudgetFactor& f : factors) {
         AlgoOptions o = base;
@@ -198,6 +240,11 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
         // rasterizer's coverage (docs/budget.md, "Decisions").
         if (algo == "vicp" && r.name == "interpolation" && r.o.interpolation == "gpu") r.o.coverage = "gpu";
         find_algorithm(algo).check_options(r.o);
+    }
+    BudgetRunCache local;
+    BudgetRunCache& rendered = cache ? *cache : local;
+    if (resume) {
+        if (const std::optional<nlohmann::json> done = finished_budget(dir, algo, s, runs, rendered)) return *done;
     }
     std::error_code ec;
     std::filesystem::create_directories(dir + "/runs", ec);
@@ -220,8 +267,6 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
     // A run whose switches an earlier run had (a factor whose switch already has the baseline's value: VICP's MPVONC,
     // a threshold of 1; or a run of an earlier budget in `cache`) is not rendered again: its numbers and files are
     // copied.
-    BudgetRunCache local;
-    BudgetRunCache& rendered = cache ? *cache : local;
     // Where a run's JSON goes, with what the page says of a factor.
     const auto store = [&](const Run& r, nlohmann::json j) {
         if (r.name == "baseline" || r.name == "total") {

@@ -247,7 +247,8 @@ void register_sweep(CLI::App& app)
                     o.k = k;
                     const std::string page = "budget/" + vtag + "-k" + std::to_string(k);
                     nlohmann::json row = budget_summary(
-                        run_budget(s, "havs", o, dir + "/" + page, a->scene.input.path, &cache), page + "/index.html");
+                        run_budget(s, "havs", o, dir + "/" + page, a->scene.input.path, &cache, true),
+                        page + "/index.html");
                     row["view"] = v.index;
                     row["k"] = k;
                     out["budget_rows"].push_back(row);

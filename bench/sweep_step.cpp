@@ -108,8 +108,9 @@ nlohmann::json run_step_sweep(Scene& s, const AlgoOptions& o, std::vector<double
             c.step = st;
             char page[96];
             std::snprintf(page, sizeof page, "budget/v%d-step%.6g", view, st);
-            nlohmann::json row = budget_summary(run_budget(s, "raycast", c, dir + "/" + page, v.source),
-                                                std::string(page) + "/index.html");
+            // resumed from disk when this budget was finished by an earlier, interrupted sweep
+            const nlohmann::json b = run_budget(s, "raycast", c, dir + "/" + page, v.source, nullptr, true);
+            nlohmann::json row = budget_summary(b, std::string(page) + "/index.html");
             row["view"] = view;
             row["step"] = st;
             out["budget_rows"].push_back(row);

@@ -127,6 +127,7 @@ AlgoOptions algo_options(const py::kwargs& kwargs)
                 o.k = all ? uvr::gpu::kEveryFragment : text ? 0 : v.cast<int>();
                 if (!all && o.k < 1) throw InputError("", "option 'k' must be a whole number of at least 1, or 'all'");
             }
+            else if (key == "ties") o.ties = v.cast<std::string>();
             else if (key == "segment") o.segment = v.cast<std::string>();
             else if (key == "gaps") o.gaps = v.cast<std::string>();
             else if (key == "order") o.order = v.cast<std::string>();
@@ -146,7 +147,7 @@ AlgoOptions algo_options(const py::kwargs& kwargs)
             else if (key == "send") o.send = v.cast<std::string>();
             else
                 throw InputError("", "unknown option '" + key +
-                                         "' (backend, gl, k, segment, gaps, order, coverage, interpolation, entries, "
+                                         "' (backend, gl, k, ties, segment, gaps, order, coverage, interpolation, entries, "
                                          "threshold, table_size, table_format, cache, step, preintegrate, light, "
                                          "volume_format, arb_draw, arb_barrier, send)");
         } catch (const py::cast_error&) {

@@ -112,16 +112,22 @@ TEST_CASE("each factor run of uvr budget differs from the baseline by its own sw
         CHECK(base["interpolation"] == "exact");
         CHECK(base["coverage"] == "exact");
         CHECK(base["threshold"] == 1.0);
-        // HAVS's baseline holds every fragment of every pixel (--k all).
+        // HAVS's baseline holds every fragment of every pixel (--k all) and orders a seam's faces by the cell the ray
+        // leaves first (--ties facing); the sort factor sets both back.
         if (std::string(algo) == "havs") {
             CHECK(base["k"] == "all");
+            CHECK(base["ties"] == "facing");
+            CHECK(b["factors"]["sort"]["switches"]["ties"] == "arrival");
             CHECK(b["baseline"]["stats"]["max_held"] == b["baseline"]["stats"]["max_fragments_per_pixel"]);
         }
         const char* sort_switch = std::string(algo) == "havs" ? "k" : "order";
         REQUIRE(b["factor_order"] ==
                 nlohmann::json::array({"sort", "table", "interpolation", "coverage", "termination"}));
         const nlohmann::json& f = b["factors"];
-        require_only(f["sort"], b["baseline"], {sort_switch});
+        if (std::string(algo) == "havs")
+            require_only(f["sort"], b["baseline"], {sort_switch, "ties"});
+        else
+            require_only(f["sort"], b["baseline"], {sort_switch});
         require_only(f["table"], b["baseline"], {"segment", "table_size", "table_format"});
         CHECK(f["table"]["switches"]["segment"] == "table");
         // VICP's seed has varyings only on the rasterizer's fragments: its interpolation run takes its coverage too.
@@ -287,6 +293,34 @@ TEST_CASE("uvr sweep --budget gives HAVS's budget at every k, as uvr budget give
     }
     // The sort factor falls as k grows (the k-buffer holds more of the fragments out of order).
     CHECK(w["budget_rows"][2]["factors"]["sort"].get<double>() < w["budget_rows"][0]["factors"]["sort"].get<double>());
+    unsetenv("UVR_CACHE_DIR");
+}
+
+TEST_CASE("an interrupted uvr sweep --budget goes on from the budgets it finished, and redoes one whose options differ")
+{
+    TempDir tmp("budget-resume");
+    setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
+    const std::string sweep = "sweep builtin:torus-small --size 48x48 --view 30,20 --k 1,2 --budget --json --report '" +
+                              tmp.file("sweep") + "'";
+    const auto rows = [&](const std::string& extra) {
+        const CommandResult r = run_uvr(sweep + extra);
+        INFO(r.err);
+        REQUIRE(r.exit_code == 0);
+        return nlohmann::json::parse(r.out)["budget_rows"];
+    };
+    const nlohmann::json first = rows("");
+    const std::string k1 = tmp.file("sweep/budget/v0-k1/runs/total.npy");
+    const auto k1_written = std::filesystem::last_write_time(k1);
+    // The k = 2 budget interrupted before its budget.json was written; k = 1's finished.
+    std::filesystem::remove(tmp.file("sweep/budget/v0-k2/budget.json"));
+    const nlohmann::json again = rows("");
+    CHECK(again == first);
+    CHECK(std::filesystem::last_write_time(k1) == k1_written);  // taken from disk, not rendered again
+    CHECK(std::filesystem::exists(tmp.file("sweep/budget/v0-k2/budget.json")));
+    // Other options: no finished budget matches, every one is rendered again.
+    const nlohmann::json other = rows(" --table-size 32");
+    CHECK(std::filesystem::last_write_time(k1) != k1_written);
+    CHECK(other[0]["total"] != first[0]["total"]);
     unsetenv("UVR_CACHE_DIR");
 }
 

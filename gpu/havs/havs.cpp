@@ -32,6 +32,8 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 const HavsOptions& checked_k(const HavsOptions& options)
 {
     if (options.k < 1 && options.k != kEveryFragment) throw InputError("", "--k must be at least 1, or all");
+    if (options.ties == TieOrder::facing && options.k != kEveryFragment)
+        throw InputError("", "--ties facing needs --k all: a k-buffer orders fragments at one distance by its slots");
     return options;
 }
 
@@ -43,7 +45,7 @@ struct KBufferTile {
     glm::vec4* fb;
     KBufferDiagnostics* diag;
     int width, k;
-    void operator()(const KEntry& e, int px, int py) const
+    void operator()(const KEntry& e, int px, int py, bool /*back_facing*/) const
     {
         const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
         program(e, kbuf + p * std::size_t(k), fb[p], diag ? diag + p : nullptr);
@@ -198,7 +200,8 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
                     else
                         for_each_fragment_in_tile(ts, tile, fragment);
                 };
-                const auto apply = [&](const KEntry& e, int px, int py) { sink(e, px, py); };
+                const bool back_facing = facing == Facing::back;  // --ties facing's key
+                const auto apply = [&](const KEntry& e, int px, int py) { sink(e, px, py, back_facing); };
                 if (seed_varyings) {
                     // --interpolation gpu: the seed's varyings through the interpolation stage, the side a flat
                     // attribute.
@@ -248,7 +251,8 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     };
     const auto pixel_sort_tiles = [&](const auto& shade_as) {
         draw([&](const TileRect& tile) {
-            return PixelSortTile<std::decay_t<decltype(shade_as)>>(tile, fc, fb.data(), diag_at, width, shade_as);
+            return PixelSortTile<std::decay_t<decltype(shade_as)>>(tile, fc, fb.data(), diag_at, width, shade_as,
+                                                                   mesh_.options().ties == TieOrder::facing);
         });
     };
     if (every_fragment && table_path) {

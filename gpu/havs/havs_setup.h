@@ -38,9 +38,14 @@ enum class EntryEncoding { marked, seed };
 // --k all: the k-buffer as deep as each pixel's fragments (every fragment held until the flush; the emulation's
 // only). SPEC §6's exact sort, at the memory of the fragments themselves: gpu/havs/havs_pixel_sort.h.
 inline constexpr int kEveryFragment = 0;
+// --ties, with --k all: the order of a pixel's fragments at one distance. arrival: the older first, as any k-buffer
+// deeper than the pixel's fragments takes them (the seed's tie); facing: back faces first (a ray leaves a cell before
+// it enters the next), exact where a seam's two coincident faces carry different scalars. docs/havs.md, "k = all".
+enum class TieOrder { arrival, facing };
 
 struct HavsOptions {
     int k = 6;  // entries a pixel, or kEveryFragment
+    TieOrder ties = TieOrder::arrival;  // facing only with kEveryFragment
     SegmentMode segment = SegmentMode::table;
     GapMode gaps = GapMode::exact;
     float threshold = 0.99f;  // the opacity kill; 1 switches early termination off

@@ -89,6 +89,9 @@ def test_options_reach_the_renderer(tmp_path):
     assert every_k_info["stats"]["k"] == "all"
     assert same_bits(every_k, program_image(tmp_path, "builtin:torus-small", "havs", *SMALL_ARGS, "--k", "all"))
     assert same_bits(every_k, uvr.render(scene, "havs", k=255))  # more than this scene puts on a pixel
+    facing = uvr.render(scene, "havs", k="all", ties="facing")
+    assert same_bits(facing, program_image(tmp_path, "builtin:torus-small", "havs", *SMALL_ARGS, "--k", "all",
+                                           "--ties", "facing"))
     # send reaches the GL driver: every face sent (none left out), the same bits as the covered ones alone.
     every, every_info = uvr.render(scene, "havs", backend="gl", send="all", with_stats=True)
     covered, covered_info = uvr.render(scene, "havs", backend="gl", with_stats=True)
@@ -239,6 +242,8 @@ def test_bad_input_raises_uvr_error_with_uvrs_message(tmp_path):
         (lambda: uvr.Scene("builtin:torus-small", size=(0, 10)), "size"),
         (lambda: uvr.render(scene, "havs", k=0), "'k' must be a whole number of at least 1, or 'all'"),
         (lambda: uvr.render(scene, "havs", k="every"), "'k' must be a whole number of at least 1, or 'all'"),
+        (lambda: uvr.render(scene, "havs", ties="facing"), "ties facing needs k all"),
+        (lambda: uvr.render(scene, "havs", k="all", ties="first"), "ties must be arrival or facing"),
         (lambda: uvr.render(scene, "havs", backend="gl", send="some"), "send must be covered or all"),
         (lambda: uvr.render(scene, "havs", table_size=1), "table_size"),
         (lambda: uvr.Scene("builtin:torus-small", tf={"color": []}), "tf (dict)"),
