@@ -163,8 +163,8 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     const HavsSeedVertices seed = seed_varyings ? havs_seed_vertices(fs) : HavsSeedVertices{};
     st.setup_ms += ms_since(t0);
 
-    // The tiles: `open_tile(tile)` gives the tile's fragment sink, sink(entry, px, py) in arrival order, then
-    // sink.close() (KBufferTile: the k-buffer program as each fragment arrives; PixelSortTile: --k all).
+    // The tiles: `open_tile(tile)` gives the tile's fragment sink, sink(entry, px, py, back_facing) in arrival order,
+    // then sink.close() (KBufferTile: the k-buffer program as each fragment arrives; PixelSortTile: --k all).
     const auto draw = [&](const auto& open_tile) {
         tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
             auto sink = open_tile(tile);
