@@ -123,9 +123,13 @@ AlgoOptions algo_options(const py::kwargs& kwargs)
             else if (key == "gl") o.gl = v.cast<std::string>();
             else if (key == "k") {
                 // A whole number >= 1, or "all" (every fragment held: uvr::gpu::kEveryFragment, never a number).
-                const bool text = py::isinstance<py::str>(v), all = text && v.cast<std::string>() == "all";
-                o.k = all ? uvr::gpu::kEveryFragment : text ? 0 : v.cast<int>();
-                if (!all && o.k < 1) throw InputError("", "option 'k' must be a whole number of at least 1, or 'all'");
+                const bool text = py::isinstance<py::str>(v);
+                if (text && v.cast<std::string>() == "all") {
+                    o.k = uvr::gpu::kEveryFragment;
+                } else {
+                    o.k = text ? 0 : v.cast<int>();  // any other text is refused below, as a count below 1 is
+                    if (o.k < 1) throw InputError("", "option 'k' must be a whole number of at least 1, or 'all'");
+                }
             }
             else if (key == "ties") o.ties = v.cast<std::string>();
             else if (key == "segment") o.segment = v.cast<std::string>();

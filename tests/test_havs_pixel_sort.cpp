@@ -99,7 +99,10 @@ uint64_t check_tile(StreamGen& g, bool odd, bool seed_entries, int extra)
         const int n = int(streams[p].size());
         for (int i = 0; i < n; ++i)
             for (int j = i + 1; j < n; ++j) ties += streams[p][std::size_t(i)].y == streams[p][std::size_t(j)].y;
-        for (int k : {std::max(n, 1), n + extra}) {
+        // k = n, and k = n + extra when that is another k.
+        std::vector<int> ks{std::max(n, 1)};
+        if (extra > 0) ks.push_back(n + extra);
+        for (int k : ks) {
             glm::vec4 fb_program(0.0f);
             KBufferDiagnostics d_program;
             if (n > 0) program(fc, streams[p], k, fb_program, d_program);
