@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "bench/commands.h"
+#include "reference/field.h"
 #include "reference/topology.h"
 
 namespace uvr::cli {
@@ -22,10 +23,15 @@ nlohmann::json describe_mesh(const TetMesh& mesh)
     j["tetrahedra"] = mesh.tets.size();
     j["degenerate_tetrahedra"] = count_degenerate(mesh);
     j["faces"] = {{"unique", topo.faces.size()}, {"boundary", topo.boundary_faces}, {"internal", topo.internal_faces}};
+    std::size_t repeated = 0;
+    for (std::size_t i = 0; i < topo.canonical.size(); ++i) repeated += topo.canonical[i] != i ? 1 : 0;
+    j["repeated_points"] = repeated;  // points at the position of a lower-numbered point (welded for adjacency)
     j["fields"] = nlohmann::json::array();
     for (const auto& f : mesh.fields) {
         const Range r = field_range(f);
-        j["fields"].push_back({{"name", f.name}, {"min", r.lo}, {"max", r.hi}});
+        const FieldSummary fs = summarize_field(mesh, topo, f);
+        j["fields"].push_back({{"name", f.name}, {"min", r.lo}, {"max", r.hi}, {"kind", field_kind_name(fs.kind)},
+                               {"jump_faces", fs.jump_faces}});
     }
     j["bounds"] = {{"min", vec3(b.lo)}, {"max", vec3(b.hi)}};
     j["convex"] = boundary_is_convex(mesh, topo);
@@ -44,16 +50,40 @@ nlohmann::json describe_volume(const Volume& v)
     j["voxel_type"] = voxel_type_name(v.type);
     j["origin"] = vec3(v.origin);
     j["spacing"] = vec3(v.spacing);
-    j["fields"] = {{{"name", v.name}, {"min", r.lo}, {"max", r.hi}}};
+    j["fields"] = {{{"name", v.name}, {"min", r.lo}, {"max", r.hi}, {"kind", "point"}, {"jump_faces", 0}}};
     j["bounds"] = {{"min", vec3(b.lo)}, {"max", vec3(b.hi)}};
     return j;
+}
+
+// What a format says of itself (Dataset::info): Exodus II's blocks, sets, variables and time steps.
+void print_format(const nlohmann::json& f)
+{
+    const auto names = [](const nlohmann::json& list) {
+        std::string s;
+        for (const auto& x : list) s += (s.empty() ? "" : ", ") + (x.is_string() ? x.get<std::string>() : x.dump());
+        return s.empty() ? std::string("none") : s;
+    };
+    std::printf("  format       %s\n", f.value("format", std::string("?")).c_str());
+    for (const auto& b : f.value("blocks", nlohmann::json::array()))
+        std::printf("  block        %s '%s': %s, %s elements\n", b.value("id", nlohmann::json()).dump().c_str(),
+                    b.value("name", std::string()).c_str(), b.value("type", std::string()).c_str(),
+                    b.value("elements", nlohmann::json()).dump().c_str());
+    for (const char* key : {"node_sets", "side_sets", "nodal_variables", "element_variables"})
+        if (f.contains(key)) std::printf("  %-12s %s\n", key, names(f[key]).c_str());
+    if (f.contains("times"))
+        std::printf("  time steps   %zu (reading %s)\n", f["times"].size(),
+                    f.value("time_step", nlohmann::json()).dump().c_str());
 }
 
 void print_text(const nlohmann::json& j)
 {
     std::printf("%s: %s\n", j["file"].get<std::string>().c_str(), j["kind"].get<std::string>().c_str());
     if (j["kind"] == "tetrahedral mesh") {
-        std::printf("  points       %zu\n", j["points"].get<std::size_t>());
+        std::printf("  points       %zu", j["points"].get<std::size_t>());
+        if (j["repeated_points"] != 0)
+            std::printf(" (%zu repeat a position: welded for adjacency, values kept)",
+                        j["repeated_points"].get<std::size_t>());
+        std::printf("\n");
         std::printf("  tetrahedra   %zu", j["tetrahedra"].get<std::size_t>());
         if (j["degenerate_tetrahedra"] != 0)
             std::printf(" (%zu flat, from collapsed grid cells)", j["degenerate_tetrahedra"].get<std::size_t>());
@@ -73,9 +103,15 @@ void print_text(const nlohmann::json& j)
     std::printf("  bounds       [%g, %g] x [%g, %g] x [%g, %g]\n", lo[0].get<double>(), hi[0].get<double>(),
                 lo[1].get<double>(), hi[1].get<double>(), lo[2].get<double>(), hi[2].get<double>());
     if (j["fields"].empty()) std::printf("  fields       none\n");
-    for (const auto& f : j["fields"])
-        std::printf("  field        %-20s [%.9g, %.9g]\n", f["name"].get<std::string>().c_str(), f["min"].get<double>(),
+    if (j.contains("format")) print_format(j["format"]);
+    for (const auto& f : j["fields"]) {
+        std::printf("  field        %-20s [%.9g, %.9g]", f["name"].get<std::string>().c_str(), f["min"].get<double>(),
                     f["max"].get<double>());
+        if (f.contains("kind"))
+            std::printf(" %s, jumps across %zu faces", f["kind"].get<std::string>().c_str(),
+                        f["jump_faces"].get<std::size_t>());
+        std::printf("\n");
+    }
 }
 
 }  // namespace
@@ -92,6 +128,7 @@ void register_info(CLI::App& app)
         print_warnings(d);
         nlohmann::json j = d.mesh ? describe_mesh(*d.mesh) : describe_volume(*d.volume);
         j["file"] = in->path;
+        if (!d.info.is_null()) j["format"] = d.info;
         j["warnings"] = d.warnings;
         if (*json)
             std::printf("%s\n", j.dump(1).c_str());

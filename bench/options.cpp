@@ -14,7 +14,10 @@ void add_input_options(CLI::App& cmd, InputOptions& in)
     cmd.add_option("--dims", in.dims, "Raw volume size X,Y,Z (x fastest)");
     cmd.add_option("--dtype", in.dtype, "Raw volume voxel type (uint8, int16, float32, ...)");
     cmd.add_flag("--big-endian", in.big_endian, "Raw volume is big-endian");
-    cmd.add_option("--field", in.field, "Scalar field by name or index (default: the first)");
+    cmd.add_option("--field", in.field, "Scalar field by name or index (default: the first), of any kind: point, "
+                                        "per-cell vertex or cell data");
+    cmd.add_option("--time", in.time_step, "Exodus II: the time step whose variables are read, INDEX (from 1) or last")
+        ->capture_default_str();
 }
 
 Dataset load_input(const InputOptions& in)
@@ -23,6 +26,7 @@ Dataset load_input(const InputOptions& in)
     lo.q_file = in.q_file;
     lo.raw_dtype = in.dtype;
     lo.raw_big_endian = in.big_endian;
+    lo.time_step = in.time_step;
     if (!in.dims.empty()) {
         std::array<int64_t, 3> d{0, 0, 0};
         char c1 = 0, c2 = 0, extra = 0;

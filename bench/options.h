@@ -16,9 +16,10 @@ struct InputOptions {
     std::string dtype = "uint8";
     bool big_endian = false;
     std::string field;
+    std::string time_step = "last";  // Exodus II: --time INDEX|last
 };
 
-// Adds MESH (positional), --q, --dims, --dtype, --big-endian, --field.
+// Adds MESH (positional), --q, --dims, --dtype, --big-endian, --field, --time.
 void add_input_options(CLI::App& cmd, InputOptions& in);
 Dataset load_input(const InputOptions& in);
 

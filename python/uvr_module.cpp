@@ -175,8 +175,79 @@ py::dict measures_dict(const uvr::ErrorMeasures& e)
     return d;
 }
 
+// One array (named `name`), a dict of name -> array, or None.
+std::vector<std::pair<std::string, py::handle>> named_arrays(const py::handle& in, const std::string& name)
+{
+    std::vector<std::pair<std::string, py::handle>> out;
+    if (in.is_none()) return out;
+    if (py::isinstance<py::dict>(in))
+        for (const auto& item : in.cast<py::dict>()) out.emplace_back(py::str(item.first), item.second);
+    else
+        out.emplace_back(name, in);
+    return out;
+}
+
+// Repeats every point per tetrahedron (point 4 t + k is tetrahedron t's vertex k), carrying the point fields along:
+// what per-cell vertex values need, each tetrahedron keeping its own four values.
+void repeat_points_per_cell(uvr::TetMesh& mesh)
+{
+    std::vector<glm::dvec3> points;
+    points.reserve(4 * mesh.tets.size());
+    std::vector<std::vector<double>> values(mesh.fields.size());
+    for (uvr::Tet& t : mesh.tets)
+        for (uint32_t& v : t) {
+            for (std::size_t f = 0; f < mesh.fields.size(); ++f) values[f].push_back(mesh.fields[f].values[v]);
+            points.push_back(mesh.points[v]);
+            v = uint32_t(points.size() - 1);
+        }
+    mesh.points = std::move(points);
+    for (std::size_t f = 0; f < mesh.fields.size(); ++f) mesh.fields[f].values = std::move(values[f]);
+}
+
+// Point fields (length N), per-cell vertex fields (M x 4: each tetrahedron's values at its vertices, in its vertex
+// order) and cell fields (length M). Per-cell vertex values repeat the points per tetrahedron.
+void add_mesh_fields(uvr::TetMesh& mesh, const std::vector<std::pair<std::string, py::handle>>& scalars,
+                     const std::vector<std::pair<std::string, py::handle>>& cell_scalars)
+{
+    using F64 = py::array_t<double, py::array::c_style | py::array::forcecast>;
+    if (scalars.empty() && cell_scalars.empty()) throw InputError("arrays", "no scalar field given");
+    std::vector<std::pair<std::string, F64>> per_vertex;
+    for (const auto& [field_name, values_in] : scalars) {
+        const F64 values = F64::ensure(values_in);
+        if (values && values.ndim() == 2 && values.shape(1) == 4) {
+            per_vertex.emplace_back(field_name, values);
+            continue;
+        }
+        if (!values || values.ndim() != 1)
+            throw InputError("arrays", "scalars '" + field_name + "' must be a one-dimensional array of numbers (one "
+                                       "per point) or an M x 4 array (each tetrahedron's values at its vertices)");
+        mesh.fields.push_back({field_name, std::vector<double>(values.data(), values.data() + values.size())});
+    }
+    if (!per_vertex.empty()) {
+        for (const auto& f : mesh.fields)  // lengths are checked before the points are repeated
+            if (f.values.size() != mesh.points.size())
+                throw InputError("arrays", "field '" + f.name + "' has " + std::to_string(f.values.size()) +
+                                               " values for " + std::to_string(mesh.points.size()) + " points");
+        repeat_points_per_cell(mesh);
+    }
+    for (const auto& [field_name, values] : per_vertex) {
+        if (std::size_t(values.shape(0)) != mesh.tets.size())
+            throw InputError("arrays", "scalars '" + field_name + "' has " + std::to_string(values.shape(0)) +
+                                           " rows for " + std::to_string(mesh.tets.size()) + " tetrahedra");
+        mesh.fields.push_back({field_name, std::vector<double>(values.data(), values.data() + values.size())});
+    }
+    for (const auto& [field_name, values_in] : cell_scalars) {
+        const F64 values = F64::ensure(values_in);
+        if (!values || values.ndim() != 1)
+            throw InputError("arrays", "cell_scalars '" + field_name + "' must be a one-dimensional array of numbers "
+                                       "(one per tetrahedron)");
+        mesh.fields.push_back({field_name, std::vector<double>(values.data(), values.data() + values.size()),
+                               uvr::FieldAssociation::cell});
+    }
+}
+
 Data make_mesh(const py::handle& points_in, const py::handle& tets_in, const py::handle& scalars_in,
-               const std::string& name)
+               const std::string& name, const py::handle& cell_scalars_in)
 {
     using F64 = py::array_t<double, py::array::c_style | py::array::forcecast>;
     const F64 points = F64::ensure(points_in);
@@ -203,19 +274,7 @@ Data make_mesh(const py::handle& points_in, const py::handle& tets_in, const py:
                                                ", out of range (" + std::to_string(mesh.points.size()) + " points)");
             mesh.tets[i][std::size_t(c)] = uint32_t(v);
         }
-    // scalars: one array (named `name`), or a dict of name -> array for several fields.
-    std::vector<std::pair<std::string, py::handle>> fields;
-    if (py::isinstance<py::dict>(scalars_in))
-        for (const auto& item : scalars_in.cast<py::dict>()) fields.emplace_back(py::str(item.first), item.second);
-    else
-        fields.emplace_back(name, scalars_in);
-    if (fields.empty()) throw InputError("arrays", "no scalar field given");
-    for (const auto& [field_name, values_in] : fields) {
-        const F64 values = F64::ensure(values_in);
-        if (!values || values.ndim() != 1)
-            throw InputError("arrays", "scalars '" + field_name + "' must be a one-dimensional array of numbers");
-        mesh.fields.push_back({field_name, std::vector<double>(values.data(), values.data() + values.size())});
-    }
+    add_mesh_fields(mesh, named_arrays(scalars_in, name), named_arrays(cell_scalars_in, "cell_scalars"));
     Data d;
     const std::size_t reoriented = uvr::finalize_mesh(mesh);  // lengths, indices, finiteness, volumes
     if (reoriented)
@@ -250,10 +309,11 @@ Data make_volume(const py::handle& values_in, std::vector<double> spacing, std::
 
 PyScene make_scene(const py::object& source, const std::string& field, const std::string& q, const py::object& dims,
                    const std::string& dtype, bool big_endian, const py::object& tf, const py::object& camera,
-                   const py::object& view, const py::object& size)
+                   const py::object& view, const py::object& size, const std::string& time_step)
 {
     uvr::cli::SceneOptions o;
     o.input.field = field;
+    o.input.time_step = time_step;
     o.input.q_file = q;
     o.input.dtype = dtype;
     o.input.big_endian = big_endian;
@@ -314,10 +374,12 @@ PYBIND11_MODULE(uvr, m)
 
     py::class_<Data>(m, "Data", "A mesh or volume made from arrays; hand it to uvr.Scene");
 
-    m.def("mesh", &make_mesh, py::arg("points"), py::arg("tetrahedra"), py::arg("scalars"),
-          py::arg("name") = "scalars",
-          "A tetrahedral mesh from arrays: points N x 3, tetrahedra M x 4 (point indices), scalars of length N (or a "
-          "dict name -> array for several fields). Checked as a file's mesh is: indices, finiteness, volumes.");
+    m.def("mesh", &make_mesh, py::arg("points"), py::arg("tetrahedra"), py::arg("scalars") = py::none(),
+          py::arg("name") = "scalars", py::arg("cell_scalars") = py::none(),
+          "A tetrahedral mesh from arrays: points N x 3, tetrahedra M x 4 (point indices); scalars of length N (point "
+          "data) or M x 4 (each tetrahedron's own values at its vertices: per-cell vertex data), or a dict name -> "
+          "array for several fields; cell_scalars of length M (one value per tetrahedron), or a dict. Checked as a "
+          "file's mesh is: indices, finiteness, volumes.");
     m.def("volume", &make_volume, py::arg("values"), py::arg("spacing") = std::vector<double>{1.0, 1.0, 1.0},
           py::arg("origin") = std::vector<double>{0.0, 0.0, 0.0}, py::arg("name") = "scalars",
           "A regular grid from a Z x Y x X array (x fastest: NumPy's C order), with spacing and origin (x, y, z).");
@@ -326,10 +388,11 @@ PYBIND11_MODULE(uvr, m)
         .def(py::init(&make_scene), py::arg("source"), py::kw_only(), py::arg("field") = "", py::arg("q") = "",
              py::arg("dims") = py::none(), py::arg("dtype") = "uint8", py::arg("big_endian") = false,
              py::arg("tf") = py::none(), py::arg("camera") = py::none(), py::arg("view") = py::none(),
-             py::arg("size") = std::vector<int>{512, 512},
+             py::arg("size") = std::vector<int>{512, 512}, py::arg("time") = "last",
              "source: a file (any format uvr reads, builtin:torus, ...) or uvr.mesh / uvr.volume's data. tf and "
              "camera: dicts in the JSON of the files (SPEC §1, §2), or a file name, or tf='preset:NAME'. view: "
-             "(azimuth, elevation) orbiting the default camera. size: (width, height).")
+             "(azimuth, elevation) orbiting the default camera. size: (width, height). time: an Exodus II file's "
+             "time step, an index from 1 or 'last'.")
         .def_property_readonly("width", [](const PyScene& s) { return s.scene->width; })
         .def_property_readonly("height", [](const PyScene& s) { return s.scene->height; })
         .def_property_readonly("kind", [](const PyScene& s) { return s.scene->is_volume() ? "volume" : "mesh"; })

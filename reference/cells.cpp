@@ -2,7 +2,7 @@
 //
 // Unstructured cells (hexahedra, voxels, wedges, pyramids) are split by the rule of Dompierre et al. ("How to
 // subdivide pyramids, prisms and hexahedra into tetrahedra", 1999) in its simplest form: each quadrilateral face is cut
-// along the diagonal through its smallest global point index, and the cell is coned from its smallest-index vertex m
+// along the diagonal through its smallest global point index (of the canonical point: coincident points count as one), and the cell is coned from its smallest-index vertex m
 // over the faces that do not contain m. The faces that contain m are then cut along diagonals through m, which is also
 // their smallest index, so every quadrilateral is cut the same way from both sides whatever the neighbouring cell's
 // type. Counts: hexahedron 6, wedge 3, pyramid 2 tetrahedra.
@@ -15,6 +15,7 @@
 #include <map>
 
 #include "reference/error.h"
+#include "reference/topology.h"
 
 namespace uvr {
 
@@ -41,12 +42,14 @@ const CellShape& pyramid_shape()
     return s;
 }
 
-// Cone from the smallest-index vertex over the faces not containing it (see the file comment).
-void cone_split(const CellShape& shape, const uint32_t* g, std::vector<Tet>& out)
+// Cone from the smallest-index vertex over the faces not containing it (see the file comment). Indices are compared
+// by canonical point (key[i] for vertex g[i]), so that cells whose files repeat a shared point still cut the face the
+// same way.
+void cone_split(const CellShape& shape, const uint32_t* g, const uint32_t* key, std::vector<Tet>& out)
 {
     int m = 0;
     for (int i = 1; i < shape.vertices; ++i)
-        if (g[i] < g[m]) m = i;
+        if (key[i] < key[m]) m = i;
     for (const auto& f : shape.faces) {
         if (std::find(f.begin(), f.end(), m) != f.end()) continue;
         if (f.size() == 3) {
@@ -55,7 +58,7 @@ void cone_split(const CellShape& shape, const uint32_t* g, std::vector<Tet>& out
         }
         // Quadrilateral a b c d: the diagonal goes through its smallest index.
         const uint32_t a = g[f[0]], b = g[f[1]], c = g[f[2]], d = g[f[3]];
-        if (std::min(a, c) < std::min(b, d)) {
+        if (std::min(key[f[0]], key[f[2]]) < std::min(key[f[1]], key[f[3]])) {
             out.push_back({g[m], a, b, c});
             out.push_back({g[m], a, c, d});
         } else {
@@ -104,14 +107,20 @@ TetMesh tetrahedralize_cells(const UnstructuredCells& cells, std::vector<std::st
     if (cells.offsets.size() != n + 1)
         throw InputError(file, "cell offsets hold " + std::to_string(cells.offsets.size()) + " entries for " +
                                    std::to_string(n) + " cells");
+    for (const ScalarField& f : cells.cell_fields)
+        if (f.values.size() != n)
+            throw InputError(file, "cell field '" + f.name + "' has " + std::to_string(f.values.size()) +
+                                       " values for " + std::to_string(n) + " cells");
     TetMesh mesh;
     mesh.source = file;
     mesh.points = cells.points;
     mesh.fields = cells.point_fields;
     mesh.tets.reserve(n);
     const int64_t np = static_cast<int64_t>(cells.points.size());
+    const std::vector<uint32_t> canonical = canonical_points(cells.points);
+    std::vector<uint32_t> source_cell;  // per tetrahedron, the cell it came from (cell fields only)
     std::map<int, std::size_t> skipped;  // type -> count, sorted so warnings come in a fixed order
-    uint32_t g[8];
+    uint32_t g[8], key[8];
     for (std::size_t c = 0; c < n; ++c) {
         const int type = cells.types[c];
         const int64_t begin = cells.offsets[c], end = cells.offsets[c + 1];
@@ -146,16 +155,26 @@ TetMesh tetrahedralize_cells(const UnstructuredCells& cells, std::vector<std::st
                 throw InputError(file, "cell " + std::to_string(c) + " uses point " + std::to_string(idx) +
                                            ", but the file has " + std::to_string(np) + " points");
             g[k] = static_cast<uint32_t>(idx);
+            key[k] = canonical[g[k]];
         }
         if (type == kVtkVoxel) {
             // A voxel orders its corners by (x, y, z) bits; the hexahedron goes around each quad.
             std::swap(g[2], g[3]);
             std::swap(g[6], g[7]);
+            std::swap(key[2], key[3]);
+            std::swap(key[6], key[7]);
         }
         if (shape)
-            cone_split(*shape, g, mesh.tets);
+            cone_split(*shape, g, key, mesh.tets);
         else
             mesh.tets.push_back({g[0], g[1], g[2], g[3]});
+        if (!cells.cell_fields.empty()) source_cell.resize(mesh.tets.size(), uint32_t(c));
+    }
+    for (const ScalarField& f : cells.cell_fields) {
+        ScalarField t{f.name, {}, FieldAssociation::cell};
+        t.values.reserve(source_cell.size());
+        for (uint32_t c : source_cell) t.values.push_back(f.values[c]);
+        mesh.fields.push_back(std::move(t));
     }
     for (const auto& [type, count] : skipped)
         warnings.push_back(file + ": skipped " + std::to_string(count) + " " + type_name(type) +

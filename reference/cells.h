@@ -27,11 +27,13 @@ struct UnstructuredCells {
     std::vector<int64_t> offsets;       // cells + 1 entries: cell c uses connectivity[offsets[c] .. offsets[c+1])
     std::vector<int64_t> connectivity;  // point indices, as read (checked here, so readers need not)
     std::vector<ScalarField> point_fields;
+    std::vector<ScalarField> cell_fields;  // one value per cell, as read; each cell's tetrahedra take its value
 };
 
 // Converts to a finalized TetMesh (finalize_mesh is applied). Hexahedra, voxels, wedges and pyramids are split by
 // coning from their smallest-index vertex over the faces that do not contain it, each quadrilateral face split along
-// the diagonal through its smallest-index vertex. Two cells sharing a quadrilateral therefore split it the same way,
+// the diagonal through its smallest-index vertex (indices of canonical points: a point the file repeats counts once).
+// Two cells sharing a quadrilateral therefore split it the same way,
 // whatever the cell types, which makes the result conforming (docs/data-model.md). 0D/1D/2D cells are skipped and one
 // warning per type is appended to `warnings`. Throws InputError naming the file and the cell for an unknown or
 // unsupported cell type, a wrong vertex count, an out-of-range index, and for a file with no 3D cell.

@@ -27,6 +27,8 @@ Dataset load_dataset(const std::string& path, const LoadOptions& options)
     if (ext == ".nrrd" || ext == ".nhdr") return read_nrrd(path);
     if (ext == ".mhd" || ext == ".mha") return read_metaimage(path);
     if (ext == ".slc") return read_slc(path);
+    if (ext == ".exo" || ext == ".e" || ext == ".ex2" || (ext == ".g" && looks_like_exodus(path)))
+        return read_exodus(path, options.time_step);
     if (ext == ".xyz" || ext == ".x" || ext == ".g" || ext == ".p3d") return read_plot3d(path, "");
     if (ext == ".raw")
         throw InputError(path, "a raw volume needs its size: --dims X,Y,Z (and --dtype, default uint8)");
@@ -34,7 +36,7 @@ Dataset load_dataset(const std::string& path, const LoadOptions& options)
         throw InputError(path, "ambiguous .bin file: give --q Q.bin for a PLOT3D grid, or --dims X,Y,Z for a raw "
                                "volume");
     throw InputError(path, "unknown file format '" + ext + "' (known: .vtk .vtu .vti .node .ele .off .nrrd .nhdr "
-                           ".mhd .mha .slc .raw, PLOT3D with --q)");
+                           ".mhd .mha .slc .raw .exo .e .ex2 .g, PLOT3D with --q)");
 }
 
 }  // namespace uvr

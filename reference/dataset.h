@@ -1,13 +1,16 @@
 // Loading any supported file: the one entry point the `uvr` program and the tests use.
 //
 // The format is chosen by the file's extension (SPEC §3): .vtk, .vtu, .vti, .node/.ele, .off, PLOT3D (.bin/.xyz/.x/.q
-// with --q), .nrrd/.nhdr, .mhd/.mha, .slc, .raw (with --dims/--dtype).
+// with --q), .nrrd/.nhdr, .mhd/.mha, .slc, .raw (with --dims/--dtype), Exodus II (.exo/.e/.ex2, and .g when the file
+// is netCDF or HDF5; a .g file of other bytes is a PLOT3D grid).
 #pragma once
 
 #include <array>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "reference/mesh.h"
 #include "reference/volume.h"
@@ -19,6 +22,7 @@ struct LoadOptions {
     std::optional<std::array<int64_t, 3>> raw_dims;   // raw volumes: sizes, x fastest
     std::string raw_dtype = "uint8";                  // raw volumes: voxel type (parse_voxel_type names)
     bool raw_big_endian = false;
+    std::string time_step = "last";                   // Exodus II: the time step's index (from 1), or "last"
 };
 
 // A file holds either a tetrahedral mesh or a regular grid. Warnings are things the user should hear about but that do
@@ -27,6 +31,8 @@ struct Dataset {
     std::optional<TetMesh> mesh;
     std::optional<Volume> volume;
     std::vector<std::string> warnings;
+    // What a format says of itself beyond the mesh, for `uvr info` (Exodus II: its blocks, sets, variables, times).
+    nlohmann::json info;
 };
 
 Dataset load_dataset(const std::string& path, const LoadOptions& options = {});
@@ -41,6 +47,11 @@ Dataset read_plot3d(const std::string& xyz_path, const std::string& q_path);
 Dataset read_nrrd(const std::string& path);               // .nrrd and .nhdr (raw and gzip, attached and detached)
 Dataset read_metaimage(const std::string& path);          // .mhd/.mha
 Dataset read_slc(const std::string& path);                // SLC (magic 11111), raw and RLE slices
+// Exodus II through libexodusii: element blocks of tetrahedra, hexahedra, wedges and pyramids; nodal variables as
+// point fields, element variables as cell fields, at time step `time_step` (an index from 1, or "last").
+Dataset read_exodus(const std::string& path, const std::string& time_step);
+// Whether the file starts like an Exodus II file (netCDF classic or 64-bit, or HDF5).
+bool looks_like_exodus(const std::string& path);
 Dataset read_raw_volume(const std::string& path, const std::array<int64_t, 3>& dims, const std::string& dtype,
                         bool big_endian);
 

@@ -24,8 +24,9 @@ std::string reference_cache_key(const TetMesh& mesh, std::size_t field, const Tr
     h.add(std::string(kReferenceCacheVersion));
     h.add(mesh.points.data(), mesh.points.size() * sizeof(glm::dvec3));
     h.add(mesh.tets.data(), mesh.tets.size() * sizeof(Tet));
-    const auto& v = mesh.fields.at(field).values;
-    h.add(v.data(), v.size() * sizeof(double));
+    const ScalarField& f = mesh.fields.at(field);
+    h.add(f.values.data(), f.values.size() * sizeof(double));
+    h.add(&f.association, sizeof f.association);
     h.add(transfer_function_json(tf));
     h.add(camera_json(camera));
     h.add(&width, sizeof width);

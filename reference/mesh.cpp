@@ -70,13 +70,16 @@ std::size_t finalize_mesh(TetMesh& mesh, DegenerateCells degenerate)
             throw InputError(file, "point " + std::to_string(i) + " has a non-finite coordinate " + fmt_point(p));
     }
     for (const ScalarField& f : mesh.fields) {
-        if (f.values.size() != np)
+        const bool cell = f.association == FieldAssociation::cell;
+        const std::size_t n = cell ? mesh.tets.size() : np;
+        const char* what = cell ? "tetrahedra" : "points";
+        if (f.values.size() != n)
             throw InputError(file, "field '" + f.name + "' has " + std::to_string(f.values.size()) +
-                                       " values for " + std::to_string(np) + " points");
-        for (std::size_t i = 0; i < np; ++i)
+                                       " values for " + std::to_string(n) + " " + what);
+        for (std::size_t i = 0; i < n; ++i)
             if (!std::isfinite(f.values[i]))
-                throw InputError(file, "field '" + f.name + "' is not finite at point " + std::to_string(i) +
-                                           " (" + std::to_string(f.values[i]) + ")");
+                throw InputError(file, "field '" + f.name + "' is not finite at " + (cell ? "tetrahedron " : "point ") +
+                                           std::to_string(i) + " (" + std::to_string(f.values[i]) + ")");
     }
     std::size_t flipped = 0;
     for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
@@ -127,7 +130,7 @@ std::size_t find_field(const TetMesh& mesh, const std::string& name)
         return s.empty() ? std::string("none") : s;
     };
     if (mesh.fields.empty())
-        throw InputError(mesh.source, "the mesh has no point scalar field (a renderer needs one)");
+        throw InputError(mesh.source, "the mesh has no scalar field (a renderer needs one)");
     if (name.empty()) return 0;
     for (std::size_t i = 0; i < mesh.fields.size(); ++i)
         if (mesh.fields[i].name == name) return i;

@@ -1,4 +1,4 @@
-// The data model: a tetrahedral mesh with point scalar fields.
+// The data model: a tetrahedral mesh with scalar fields on its points or on its cells.
 //
 // A TetMesh is what every reader produces and every renderer consumes. It holds only primary data; everything derived
 // (unique faces, adjacency, bounds, ranges, convexity) is computed on demand by topology.h and the functions below, so
@@ -7,7 +7,9 @@
 // Invariants after finalize_mesh(): every index is in range, every coordinate and scalar is finite, every tetrahedron
 // has four distinct points and strictly positive signed volume (vertex 3 on the positive side of the plane through 0,
 // 1, 2 with normal (p1-p0)x(p2-p0)) unless it is a degenerate cell kept from a structured grid (see DegenerateCells),
-// and the field value arrays have one value per point.
+// and each field has one value per point (FieldAssociation::point) or per tetrahedron (FieldAssociation::cell).
+// Points are kept as the file wrote them: coincident points are not merged, so a point field whose coincident points
+// carry different values is per-cell vertex data (reference/field.h, docs/data-model.md "Fields").
 #pragma once
 
 #include <array>
@@ -19,9 +21,13 @@
 
 namespace uvr {
 
+// Where a field's values live: at the points (linear in each tetrahedron) or one per tetrahedron (constant in it).
+enum class FieldAssociation : uint8_t { point, cell };
+
 struct ScalarField {
     std::string name;
-    std::vector<double> values;  // one per point
+    std::vector<double> values;  // one per point, or one per tetrahedron (association)
+    FieldAssociation association = FieldAssociation::point;
 };
 
 struct Bounds {

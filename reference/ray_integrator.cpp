@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "reference/error.h"
+#include "reference/field.h"
 
 namespace uvr {
 
@@ -84,8 +85,9 @@ RayIntegrator::RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std:
         const Tet& tet = mesh.tets[t];
         const glm::dvec3 p0 = mesh.points[tet[0]];
         const glm::dvec3 e1 = mesh.points[tet[1]] - p0, e2 = mesh.points[tet[2]] - p0, e3 = mesh.points[tet[3]] - p0;
-        const double s0 = field_.values[tet[0]];
-        const glm::dvec3 ds(field_.values[tet[1]] - s0, field_.values[tet[2]] - s0, field_.values[tet[3]] - s0);
+        const std::array<double, 4> v = tet_values(mesh, field_, t);
+        const double s0 = v[0];
+        const glm::dvec3 ds(v[1] - s0, v[2] - s0, v[3] - s0);
         const double det = glm::dot(e1, glm::cross(e2, e3));
         gradient_[t].w = s0;
         if (det == 0.0) continue;  // a flat cell: never entered
@@ -94,17 +96,20 @@ RayIntegrator::RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std:
         gradient_[t] = glm::dvec4(g, s0);
     }
 
+    if (mesh.tets.size() >= (std::size_t(1) << 29))
+        throw InputError(mesh.source, "more than 2^29 tetrahedra: the walk packs tetrahedron indices into 29 bits");
+    // Whether the field jumps across a face is decided here, once, so that a continuous field costs the walk nothing.
+    const std::vector<uint8_t> jump = field_jump_faces(mesh, topo, field_);
     next_.assign(mesh.tets.size(), {kNoNeighbor, kNoNeighbor, kNoNeighbor, kNoNeighbor});
     for (std::size_t t = 0; t < mesh.tets.size(); ++t)
         for (int i = 0; i < 4; ++i) {
             const int32_t nb = topo.neighbor[t][i];
             if (nb < 0) continue;
+            const int32_t face = topo.tet_faces[t][i];
             int k = 0;
-            while (topo.tet_faces[std::size_t(nb)][k] != topo.tet_faces[t][i]) ++k;
-            next_[t][i] = (uint32_t(nb) << 2) | uint32_t(k);
+            while (topo.tet_faces[std::size_t(nb)][k] != face) ++k;
+            next_[t][i] = (uint32_t(nb) << 3) | (jump[std::size_t(face)] ? kJumpBit : 0u) | uint32_t(k);
         }
-    if (mesh.tets.size() >= (std::size_t(1) << 30))
-        throw InputError(mesh.source, "more than 2^30 tetrahedra: the walk packs tetrahedron indices into 30 bits");
 
     Embree& E = *embree_;
     E.device = rtcNewDevice(nullptr);
@@ -218,10 +223,11 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, double t_
             t_out = t1;
             return topo_.tet_faces[tet][exit_local];
         }
-        tet = next >> 2;
+        tet = next >> 3;
         entry_local = int(next & 3u);
-        // The field is continuous across the face, so the exit value is the next tetrahedron's entry value.
-        s_in = s_out;
+        // Where the field is continuous across the face, the exit value is the next tetrahedron's entry value; where it
+        // jumps, the next tetrahedron's own field at the entry point.
+        s_in = (next & kJumpBit) ? scalar_at(tet, ray.origin + t1 * ray.dir) : s_out;
     }
 }
 

@@ -2,8 +2,9 @@
 //
 // Embree finds where a ray enters the mesh through its boundary (and re-enters a non-convex mesh); inside, the ray
 // walks from tetrahedron to tetrahedron through shared faces in double precision. In each tetrahedron the scalar is
-// linear, so each step is one segment of SPEC §1, integrated in closed form (segment_integral.h) and composited front
-// to back. See docs/reference.md for the exit-face rule, the tie-breaking and why the walk is watertight.
+// linear (constant for a cell field) in the tetrahedron's own values, so each step is one segment of SPEC §1,
+// integrated in closed form (segment_integral.h) and composited front to back; across a face where the field jumps
+// the next segment starts from the next tetrahedron's value. See docs/reference.md for the exit-face rule, the tie-breaking and why the walk is watertight.
 #pragma once
 
 #include <cstdint>
@@ -57,10 +58,12 @@ private:
     // Per tetrahedron: the field's gradient (xyz) and its value at vertex 0 (w), together so that a step reads one
     // record: s(p) = w + xyz . (p - p0).
     std::vector<glm::dvec4> gradient_;
-    // Per tetrahedron and local face: the neighbour across it and the shared face's local index in the neighbour,
-    // packed as (tet << 2) | local, or kNoNeighbor on the boundary. Saves the walk a search per step.
+    // Per tetrahedron and local face: the neighbour across it, whether the field jumps across the face, and the shared
+    // face's local index in the neighbour, packed as (tet << 3) | jump << 2 | local, or kNoNeighbor on the boundary.
+    // Saves the walk a search per step.
     std::vector<std::array<uint32_t, 4>> next_;
     static constexpr uint32_t kNoNeighbor = 0xFFFFFFFFu;
+    static constexpr uint32_t kJumpBit = 4u;
     std::unique_ptr<Embree> embree_;
     Bounds bounds_;  // the mesh's, for origins inside them (integrate)
 };

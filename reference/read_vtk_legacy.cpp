@@ -250,7 +250,9 @@ private:
     void read_unstructured_keyword(const std::string& kw);
     void read_structured_points_keyword(const std::string& kw);
     bool read_attribute(const std::string& kw);
-    void read_field_block(bool point_data);
+    void read_field_block();
+    // Whether the current section's 1-component arrays become fields: point data, and a mesh's cell data.
+    bool stores_scalars() const { return section_ == Section::point || (section_ == Section::cell && !volume_mode_); }
     void skip_metadata();
     [[noreturn]] void unknown_keyword(const std::string& kw, const char* where);
     void store_scalar(const std::string& name, Elem e, uint64_t n);
@@ -559,12 +561,12 @@ bool LegacyReader::read_attribute(const std::string& kw)
         section_ = Section::cell;
         return true;
     }
-    if (section_ == Section::cell && kw != "metadata" && !cell_data_warned_) {
-        out_.warnings.push_back(lex_.file() + ": CELL_DATA ignored (uvr renders point data only)");
+    if (section_ == Section::cell && volume_mode_ && kw != "metadata" && !cell_data_warned_) {
+        out_.warnings.push_back(lex_.file() + ": CELL_DATA ignored (a regular grid's scalars are point data)");
         cell_data_warned_ = true;
     }
     if (kw == "field") {
-        read_field_block(section_ == Section::point);
+        read_field_block();
         return true;
     }
     if (kw == "metadata") {
@@ -594,12 +596,12 @@ bool LegacyReader::read_attribute(const std::string& kw)
         } else {
             lex_.restore(data_start);
         }
-        if (section_ == Section::point && comps == 1 && e != Elem::str) {
+        if (stores_scalars() && comps == 1 && e != Elem::str) {
             store_scalar(name, e, n);
         } else {
-            if (section_ == Section::point)
+            if (stores_scalars())
                 out_.warnings.push_back(lex_.file() + ": SCALARS '" + name + "' with " + std::to_string(comps) +
-                                        " components ignored (uvr uses 1-component point scalars)");
+                                        " components ignored (uvr uses 1-component scalars)");
             skip_values(e, product(n, uint64_t(comps)), "SCALARS values");
         }
     } else if (kw == "color_scalars") {
@@ -624,9 +626,11 @@ bool LegacyReader::read_attribute(const std::string& kw)
 }
 
 // FIELD name numArrays, then per array "name numComponents numTuples type" and its values (or NULL_ARRAY). In point
-// data, 1-component arrays with one value per point become scalar fields; everything else is skipped.
-void LegacyReader::read_field_block(bool point_data)
+// data (and a mesh's cell data), 1-component arrays with one value per point (cell) become scalar fields; everything
+// else is skipped.
+void LegacyReader::read_field_block()
 {
+    const bool point_data = stores_scalars();
     lex_.token("field name");
     const uint64_t arrays = count("number of field arrays");
     end_header_line();
@@ -678,8 +682,9 @@ void LegacyReader::store_scalar(const std::string& name, Elem e, uint64_t n)
     if (!volume_mode_) {
         ScalarField f;
         f.name = name;
-        read_values(e, n, "point scalars", f.values);
-        cells_.point_fields.push_back(std::move(f));
+        const bool cell = section_ == Section::cell;
+        read_values(e, n, cell ? "cell scalars" : "point scalars", f.values);
+        (cell ? cells_.cell_fields : cells_.point_fields).push_back(std::move(f));
         return;
     }
     if (have_volume_values_) {

@@ -289,10 +289,52 @@ std::vector<double> number_list(const XmlFile& f, const pugi::xml_node& node, co
     return v;
 }
 
-void warn_cell_data(XmlFile& f, const pugi::xml_node& piece)
+// One piece's 1-component arrays of `data` (<PointData> or <CellData>, `what` "point" or "cell"), `count` values each,
+// appended to the fields of the pieces before it. A field is kept only when every piece has it.
+struct PieceArrays {
+    std::map<std::string, std::vector<double>> fields;
+    std::vector<std::string> order;  // the first piece's order of names
+};
+void append_piece_arrays(XmlFile& f, const pugi::xml_node& data, uint64_t count, int pieces, const char* what,
+                         PieceArrays& out)
 {
-    if (piece.child("CellData").child("DataArray"))
-        f.warnings.push_back(f.path + ": CellData ignored (uvr renders point data only)");
+    std::map<std::string, std::vector<double>> here;
+    int unnamed = 0;
+    for (const pugi::xml_node& da : data.children("DataArray")) {
+        std::string name = da.attribute("Name").value();
+        if (name.empty()) name = "array" + std::to_string(unnamed++);
+        if (components(f, da) != 1 || !find_type(da)) {
+            if (pieces == 0)
+                f.warnings.push_back(f.path + ": " + what + " array '" + name + "' (" + da.attribute("type").value() +
+                                     ", " + std::to_string(components(f, da)) + " components) ignored: uvr uses " +
+                                     "1-component numeric scalars");
+            continue;
+        }
+        if (pieces == 0) out.order.push_back(name);
+        here[name] = read_array<double>(f, da, count);
+    }
+    for (const std::string& name : out.order) {
+        auto it = here.find(name);
+        if (it == here.end()) continue;
+        if (pieces == 0 || out.fields.count(name))
+            out.fields[name].insert(out.fields[name].end(), it->second.begin(), it->second.end());
+    }
+    for (auto it = out.fields.begin(); it != out.fields.end();) {
+        if (!here.count(it->first)) {
+            f.warnings.push_back(f.path + ": " + what + " array '" + it->first + "' is missing from a piece; ignored");
+            it = out.fields.erase(it);
+        } else {
+            ++it;
+        }
+    }
+}
+
+std::vector<ScalarField> take_fields(PieceArrays& a)
+{
+    std::vector<ScalarField> out;
+    for (const std::string& name : a.order)
+        if (a.fields.count(name)) out.push_back({name, std::move(a.fields[name])});
+    return out;
 }
 
 TetMesh read_unstructured(XmlFile& f, const pugi::xml_node& grid)
@@ -300,9 +342,8 @@ TetMesh read_unstructured(XmlFile& f, const pugi::xml_node& grid)
     UnstructuredCells cells;
     cells.source = f.path;
     cells.offsets.push_back(0);
-    // Fields are kept only when every piece has them; each piece's values follow the previous pieces' points.
-    std::map<std::string, std::vector<double>> fields;
-    std::vector<std::string> order;
+    // Fields are kept only when every piece has them; each piece's values follow the previous pieces' points (cells).
+    PieceArrays point_arrays, cell_arrays;
     int pieces = 0;
     for (const pugi::xml_node& piece : grid.children("Piece")) {
         const uint64_t np = count_attribute(f, piece, "NumberOfPoints");
@@ -340,41 +381,13 @@ TetMesh read_unstructured(XmlFile& f, const pugi::xml_node& grid)
         // Shifting by the piece's first point keeps a negative index negative, so tetrahedralize_cells reports it.
         for (int64_t i : conn) cells.connectivity.push_back(i < 0 ? i : i + base);
 
-        std::map<std::string, std::vector<double>> here;
-        int unnamed = 0;
-        for (const pugi::xml_node& da : piece.child("PointData").children("DataArray")) {
-            std::string name = da.attribute("Name").value();
-            if (name.empty()) name = "array" + std::to_string(unnamed++);
-            if (components(f, da) != 1 || !find_type(da)) {
-                if (pieces == 0)
-                    f.warnings.push_back(f.path + ": point array '" + name + "' (" + da.attribute("type").value() +
-                                         ", " + std::to_string(components(f, da)) +
-                                         " components) ignored: uvr uses 1-component numeric point scalars");
-                continue;
-            }
-            if (pieces == 0) order.push_back(name);
-            here[name] = read_array<double>(f, da, np);
-        }
-        for (const std::string& name : order) {
-            auto it = here.find(name);
-            if (it == here.end()) continue;
-            if (pieces == 0 || fields.count(name))
-                fields[name].insert(fields[name].end(), it->second.begin(), it->second.end());
-        }
-        for (auto it = fields.begin(); it != fields.end();) {
-            if (!here.count(it->first)) {
-                f.warnings.push_back(f.path + ": point array '" + it->first + "' is missing from a piece; ignored");
-                it = fields.erase(it);
-            } else {
-                ++it;
-            }
-        }
-        warn_cell_data(f, piece);
+        append_piece_arrays(f, piece.child("PointData"), np, pieces, "point", point_arrays);
+        append_piece_arrays(f, piece.child("CellData"), nc, pieces, "cell", cell_arrays);
         ++pieces;
     }
     if (pieces == 0) f.fail("the UnstructuredGrid has no Piece");
-    for (const std::string& name : order)
-        if (fields.count(name)) cells.point_fields.push_back({name, std::move(fields[name])});
+    cells.point_fields = take_fields(point_arrays);
+    cells.cell_fields = take_fields(cell_arrays);
     return tetrahedralize_cells(cells, f.warnings);
 }
 
@@ -426,7 +439,8 @@ Volume read_image(XmlFile& f, const pugi::xml_node& image)
     v.name = chosen.attribute("Name").value();
     const uint64_t n = product(product(uint64_t(v.dims[0]), uint64_t(v.dims[1])), uint64_t(v.dims[2]));
     v.values = read_array<float>(f, chosen, n);
-    warn_cell_data(f, piece);
+    if (piece.child("CellData").child("DataArray"))
+        f.warnings.push_back(f.path + ": CellData ignored (a regular grid's scalars are point data)");
     finalize_volume(v);
     return v;
 }

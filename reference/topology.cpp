@@ -126,6 +126,34 @@ MeshTopology build_topology(const TetMesh& mesh)
     return topo;
 }
 
+std::vector<uint8_t> seam_points(const TetMesh& mesh, const MeshTopology& topo)
+{
+    const std::size_t np = mesh.points.size();
+    std::vector<uint32_t> parent(np);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto root = [&](uint32_t x) {
+        while (parent[x] != x) x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (const Face& f : topo.faces) {
+        if (f.boundary()) continue;
+        for (uint32_t pa : mesh.tets[std::size_t(f.tet[0])])
+            for (uint32_t pb : mesh.tets[std::size_t(f.tet[1])])
+                if (pa != pb && topo.canonical[pa] == topo.canonical[pb]) parent[root(pa)] = root(pb);
+    }
+    // A point is on a seam when its position's copies fall into more than one group.
+    std::vector<uint32_t> first_group(np, UINT32_MAX);
+    std::vector<uint8_t> split(np, 0);
+    for (std::size_t i = 0; i < np; ++i) {
+        const uint32_t c = topo.canonical[i], g = root(uint32_t(i));
+        if (first_group[c] == UINT32_MAX) first_group[c] = g;
+        else if (first_group[c] != g) split[c] = 1;
+    }
+    std::vector<uint8_t> out(np, 0);
+    for (std::size_t i = 0; i < np; ++i) out[i] = split[topo.canonical[i]];
+    return out;
+}
+
 namespace {
 
 struct BoundaryEdge {

@@ -36,12 +36,21 @@ struct MeshTopology {
     std::size_t flat_tets = 0;                    // degenerate tetrahedra left out of the face graph
 };
 
+// Per point: the smallest index of a point with bit-identical coordinates (MeshTopology::canonical).
+std::vector<uint32_t> canonical_points(const std::vector<glm::dvec3>& points);
+
 // Throws InputError naming mesh.source and the face (its three points and the tetrahedra) when a face is shared by more
 // than two tetrahedra, or when the two tetrahedra of a face lie on the same side of it (overlapping cells).
 MeshTopology build_topology(const TetMesh& mesh);
 
 // The face of tet `t` opposite its vertex `i`, ordered so its normal points out of t.
 std::array<uint32_t, 3> tet_face(const Tet& t, int i);
+
+// Per point: 1 when a coincident point exists that the internal faces do not connect it to (through the corresponding
+// points of shared faces): the point lies on a seam between cells the face graph did not match, such as the periodic
+// seam of an O-grid. Coincident points that the internal faces connect are one point written several times (a file
+// that repeats points per cell) and are not seam points.
+std::vector<uint8_t> seam_points(const TetMesh& mesh, const MeshTopology& topo);
 
 // Whether the boundary encloses a convex region: it is one connected closed surface and no boundary edge is reflex
 // (the dihedral angle inside the mesh is at most 180 degrees, up to kConvexityTolerance). For a closed connected

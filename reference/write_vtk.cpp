@@ -53,9 +53,15 @@ void write_vtk_legacy(const std::string& path, const TetMesh& mesh, std::size_t 
     }
     out += "\nCELL_TYPES " + std::to_string(real.size()) + "\n";
     for (std::size_t i = 0; i < real.size(); ++i) put_be(out, int32_t(10));
-    out += "\nPOINT_DATA " + std::to_string(mesh.points.size()) + "\nSCALARS " + array_name(f.name) +
-           " double 1\nLOOKUP_TABLE default\n";
-    for (double v : f.values) put_be(out, v);
+    if (f.association == FieldAssociation::cell) {
+        out += "\nCELL_DATA " + std::to_string(real.size()) + "\nSCALARS " + array_name(f.name) +
+               " double 1\nLOOKUP_TABLE default\n";
+        for (const Tet* t : real) put_be(out, f.values[std::size_t(t - mesh.tets.data())]);
+    } else {
+        out += "\nPOINT_DATA " + std::to_string(mesh.points.size()) + "\nSCALARS " + array_name(f.name) +
+               " double 1\nLOOKUP_TABLE default\n";
+        for (double v : f.values) put_be(out, v);
+    }
     out += "\n";
     write_file_atomically(path, out);
 }

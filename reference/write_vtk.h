@@ -9,8 +9,9 @@
 
 namespace uvr {
 
-// BINARY (big-endian) UNSTRUCTURED_GRID: double points, tetrahedra (VTK type 10), and the field `field` as POINT_DATA
-// SCALARS (double). Flat tetrahedra kept from collapsed grid cells are left out: they cover no volume, and every
+// BINARY (big-endian) UNSTRUCTURED_GRID: double points (as the mesh holds them: repeated points stay repeated, so
+// per-cell vertex data survives), tetrahedra (VTK type 10), and the field `field` as POINT_DATA SCALARS (double), or
+// CELL_DATA for a cell field. Flat tetrahedra kept from collapsed grid cells are left out: they cover no volume, and every
 // unstructured reader (uvr's included) rightly rejects them. Written atomically; throws InputError naming `path`.
 void write_vtk_legacy(const std::string& path, const TetMesh& mesh, std::size_t field);
 

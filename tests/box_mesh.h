@@ -1,10 +1,14 @@
-// Meshes with known geometry for analytic and degenerate-geometry tests.
+// Meshes with known geometry for analytic and degenerate-geometry tests, and the chord of a ray through a box.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <random>
 
 #include <glm/vec3.hpp>
+
+#include "reference/camera.h"
 
 #include "reference/cells.h"
 #include "reference/mesh.h"
@@ -30,6 +34,24 @@ inline TetMesh box_mesh(int n, const std::function<double(const glm::dvec3&)>& f
     for (const auto& p : g.points) f.values.push_back(field(p));
     g.point_fields.push_back(f);
     return tetrahedralize_structured(g);
+}
+
+// Length of the ray's path inside the axis-aligned box [lo, hi] (slab method), and the entry parameter.
+inline bool box_chord(const Ray& r, glm::dvec3 lo, glm::dvec3 hi, double& t0, double& t1)
+{
+    t0 = 0.0;
+    t1 = INFINITY;
+    for (int a = 0; a < 3; ++a) {
+        if (r.dir[a] == 0.0) {
+            if (r.origin[a] < lo[a] || r.origin[a] > hi[a]) return false;
+            continue;
+        }
+        double ta = (lo[a] - r.origin[a]) / r.dir[a], tb = (hi[a] - r.origin[a]) / r.dir[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+    }
+    return t1 > t0;
 }
 
 }  // namespace uvr::test

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "gpu/havs/gl_havs.h"
+#include "field_scenes.h"
 #include "gl_frames.h"
 #include "mesh_scenes.h"
 #include "image_errors.h"
@@ -120,6 +121,16 @@ TEST_CASE("the GL HAVS frame equals the emulated frame bit for bit")
         const Scene bf = test::blunt_fin();
         require_identical(bf, default_camera(mesh_bounds(bf.mesh), 1.0, 0.0, 0.0), 256, 192, {6}, false, osmesa(), 0,
                           InterpolationMode::gpu, KBufferAccess::images);
+    }
+    SECTION("fields that jump: per-cell vertex data and cell data (a jump face drawn twice, each side's scalars)")
+    {
+        const Scene seam = test::make_scene(test::two_cube_seam(), 0);
+        require_identical(seam, default_camera(mesh_bounds(seam.mesh), 1.0, 70.0, 20.0), 96, 96, {1, 6, kmax});
+        const Scene cells = test::make_scene(test::cell_data_box(), 0);
+        require_identical(cells, default_camera(mesh_bounds(cells.mesh), 1.0, 30.0, 35.0), 96, 96, {2, 6, kmax});
+        const Scene torus = test::make_scene(load_builtin("builtin:torus-small"), 0);
+        const Scene jump = test::with_jump(torus, 0.5);
+        require_identical(jump, default_camera(mesh_bounds(jump.mesh), 1.0, 35.0, 40.0), 160, 120, {6, kmax});
     }
     SECTION("k = 14: every draw buffer holds entries (no diagnostics)")
     {

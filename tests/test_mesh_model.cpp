@@ -96,5 +96,5 @@ TEST_CASE("find_field picks by name, by index, and lists the fields when neither
     CHECK(find_field(m, "1") == 1);
     require_input_error([&] { find_field(m, "pressure"); }, {"unit.vtk", "no field 'pressure'", "0 's'", "1 't'"});
     m.fields.clear();
-    require_input_error([&] { find_field(m, ""); }, {"unit.vtk", "no point scalar field"});
+    require_input_error([&] { find_field(m, ""); }, {"unit.vtk", "no scalar field"});
 }

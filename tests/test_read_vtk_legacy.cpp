@@ -211,10 +211,14 @@ TEST_CASE("VTK legacy reader reads hand-written files in each layout", "[vtk][le
                                  "1 2 3 4 5 6 7 8 9 10\n";
         const auto d = uvr::read_vtk_legacy(dir.write("old.vtk", text));
         check_small_mesh(d);
-        REQUIRE(d.mesh->fields.size() == 2);
+        REQUIRE(d.mesh->fields.size() == 3);
         CHECK(d.mesh->fields[1].name == "pressure");
         CHECK(d.mesh->fields[1].values == std::vector<double>{5, 4, 3, 2, 1});
-        CHECK(has_warning(d, "CELL_DATA ignored"));
+        // The cell scalars, one per tetrahedron (each cell is one).
+        CHECK(d.mesh->fields[2].name == "id");
+        CHECK(d.mesh->fields[2].association == uvr::FieldAssociation::cell);
+        CHECK(d.mesh->fields[2].values == std::vector<double>{7, 8});
+        CHECK_FALSE(has_warning(d, "CELL_DATA"));
         CHECK(has_warning(d, "'flow'"));
     }
     SECTION("BINARY big-endian, old CELLS form, with arrays and METADATA to skip around the data used")
@@ -230,10 +234,14 @@ TEST_CASE("VTK legacy reader reads hand-written files in each layout", "[vtk][le
             be<float>({5, 4, 3, 2, 1}) + "\nMETADATA\nINFORMATION 0\n\nflow 3 5 bit\n" + std::string(2, '\0') + "\n";
         const auto d = uvr::read_vtk_legacy(dir.write("binary.vtk", text));
         check_small_mesh(d);
-        REQUIRE(d.mesh->fields.size() == 2);
+        REQUIRE(d.mesh->fields.size() == 3);
         CHECK(d.mesh->fields[1].name == "pressure");
         CHECK(d.mesh->fields[1].values == std::vector<double>{5, 4, 3, 2, 1});
-        CHECK(has_warning(d, "CELL_DATA ignored"));
+        // The cell scalars, one per tetrahedron (each cell is one).
+        CHECK(d.mesh->fields[2].name == "id");
+        CHECK(d.mesh->fields[2].association == uvr::FieldAssociation::cell);
+        CHECK(d.mesh->fields[2].values == std::vector<double>{7, 8});
+        CHECK_FALSE(has_warning(d, "CELL_DATA"));
         CHECK(has_warning(d, "'flow'"));
     }
     SECTION("BINARY version 5.1 with vtktypeint64 OFFSETS and CONNECTIVITY")

@@ -14,6 +14,7 @@
 #include "test_support.h"
 
 using namespace uvr;
+using test::box_chord;
 using test::box_mesh;
 
 namespace {
@@ -23,24 +24,6 @@ namespace {
 // hundred steps), and the image is rounded to float32 (6e-8 relative). 1e-6 absolute covers all of it with margin
 // while any skipped tetrahedron (a leak) changes the transmittance by far more.
 constexpr double kPixelTolerance = 1e-6;
-
-// Length of the ray's path inside the axis-aligned box [lo, hi] (slab method), and the entry parameter.
-bool box_chord(const Ray& r, glm::dvec3 lo, glm::dvec3 hi, double& t0, double& t1)
-{
-    t0 = 0.0;
-    t1 = INFINITY;
-    for (int a = 0; a < 3; ++a) {
-        if (r.dir[a] == 0.0) {
-            if (r.origin[a] < lo[a] || r.origin[a] > hi[a]) return false;
-            continue;
-        }
-        double ta = (lo[a] - r.origin[a]) / r.dir[a], tb = (hi[a] - r.origin[a]) / r.dir[a];
-        if (ta > tb) std::swap(ta, tb);
-        t0 = std::max(t0, ta);
-        t1 = std::min(t1, tb);
-    }
-    return t1 > t0;
-}
 
 TransferFunction homogeneous(double tau, glm::dvec3 c)
 {

@@ -3,6 +3,7 @@
 // per-pixel diagnostics (fragments, ordering errors), with the seed's programs and with the exact variant.
 #include "box_mesh.h"
 #include "gpu/vicp/gl_vicp.h"
+#include "field_scenes.h"
 #include "gl_frames.h"
 #include "mesh_scenes.h"
 #include "image_errors.h"
@@ -112,6 +113,15 @@ TEST_CASE("the GL VICP frame equals the emulated frame bit for bit")
             }
             require_identical(s, cam, 81, 81, options(CellOrder::mpvonc));
         }
+    }
+    SECTION("fields that jump: per-cell vertex data and cell data (each cell's own values)")
+    {
+        const Scene seam = test::make_scene(test::two_cube_seam(), 0);
+        require_identical(seam, default_camera(mesh_bounds(seam.mesh), 1.0, 70.0, 20.0), 96, 96,
+                          options(CellOrder::mpvonc));
+        const Scene cells = test::make_scene(test::cell_data_box(), 0);
+        require_identical(cells, default_camera(mesh_bounds(cells.mesh), 1.0, 30.0, 35.0), 96, 96,
+                          options(CellOrder::mpvonc));
     }
     SECTION("the stream in many draws (as a mesh beyond the storage block size is drawn)")
     {

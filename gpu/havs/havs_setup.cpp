@@ -10,6 +10,7 @@
 #include "gpu/pipeline/clip.h"
 #include "gpu/pipeline/face_sort.h"
 #include "reference/error.h"
+#include "reference/field.h"
 
 namespace uvr::gpu {
 
@@ -20,28 +21,41 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
                    const HavsOptions& options)
-    : mesh_(mesh), options_(options), integrator_(tf), range_(field_range(mesh.fields.at(field)))
+    : drawn_mesh_(mesh, topo, field), mesh_(drawn_mesh_.mesh()), options_(options), integrator_(tf),
+      range_(field_range(mesh_.fields.at(drawn_mesh_.field())))
 {
+    const MeshTopology& drawn_topo = drawn_mesh_.topology();
     const double span = range_.hi > range_.lo ? range_.hi - range_.lo : 1.0;
-    for (double s : mesh.fields[field].values) scalar_n_.push_back((s - range_.lo) / span);
-    // Welded points (a coincident twin exists): a boundary face made only of them lies on a seam inside the mesh (the
-    // O-grid seam of docs/data-model.md), not on the mesh's surface, so it is never a gap's start.
-    std::vector<uint8_t> welded(mesh.points.size(), 0);
-    for (std::size_t i = 0; i < mesh.points.size(); ++i)
-        if (topo.canonical[i] != i) welded[i] = welded[topo.canonical[i]] = 1;
-    faces_.reserve(topo.faces.size() * 3);
-    boundary_.reserve(topo.faces.size());
-    for (const Face& f : topo.faces) {
+    for (double s : mesh_.fields[drawn_mesh_.field()].values) scalar_n_.push_back((s - range_.lo) / span);
+    // A boundary face made only of seam points lies on a seam inside the mesh (the O-grid seam of
+    // docs/data-model.md), not on the mesh's surface, so it is never a gap's start.
+    const std::vector<uint8_t> seam_point = seam_points(mesh_, drawn_topo);
+    const std::vector<uint8_t> jump = field_jump_faces(mesh_, drawn_topo, mesh_.fields[drawn_mesh_.field()]);
+    faces_.reserve(drawn_topo.faces.size() * 3);
+    boundary_.reserve(drawn_topo.faces.size());
+    for (const Face& f : drawn_topo.faces) {
         faces_.insert(faces_.end(), f.v.begin(), f.v.end());
-        const bool seam = welded[f.v[0]] && welded[f.v[1]] && welded[f.v[2]];
+        const bool seam = seam_point[f.v[0]] && seam_point[f.v[1]] && seam_point[f.v[2]];
         boundary_.push_back(options_.gaps == GapMode::exact && f.boundary() && !seam ? 1 : 0);
+    }
+    // A face across which the field jumps is drawn twice, once with each side's points: two coincident faces, each
+    // with its own side's scalars, that the k-buffer orders (--ties facing: the exact order).
+    for (std::size_t i = 0; i < drawn_topo.faces.size(); ++i) {
+        if (!jump[i]) continue;
+        const Face& f = drawn_topo.faces[i];
+        const auto b = std::size_t(f.tet[1]);
+        int local = 0;
+        while (drawn_topo.tet_faces[b][std::size_t(local)] != int32_t(i)) ++local;
+        const auto v = tet_face(mesh_.tets[b], local);
+        faces_.insert(faces_.end(), v.begin(), v.end());
+        boundary_.push_back(0);
     }
     if (options_.entries == EntryEncoding::seed &&
         (options_.interpolation != InterpolationMode::gpu || options_.gaps != GapMode::exact))
         throw InputError("", "--entries seed needs the seed's interpolation (--interpolation gpu) and exact gaps "
                              "(--gaps exact): it marks exit faces by a negative scalar, and the seed's program has "
                              "no maximum-gap rule");
-    longest_edge_ = longest_tet_edge(mesh);
+    longest_edge_ = longest_tet_edge(mesh_);
     if (!(options_.table_max_length > 0.0)) options_.table_max_length = longest_edge_;
     if (options_.segment == SegmentMode::table)
         table_ = build_segment_table(integrator_, range_, options_.table_size, options_.table_format,

@@ -17,6 +17,7 @@
 #include <glm/vec3.hpp>
 
 #include "gpu/havs/havs_fragment.h"
+#include "gpu/pipeline/drawn_mesh.h"
 #include "gpu/pipeline/view_setup.h"
 #include "gpu/pipeline/exact_coverage.h"
 #include "gpu/pipeline/interpolation.h"
@@ -66,21 +67,25 @@ public:
     HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
              const HavsOptions& options);
 
-    const TetMesh& mesh() const { return mesh_; }
+    const TetMesh& mesh() const { return mesh_; }  // the mesh drawn (gpu/pipeline/drawn_mesh.h)
     const HavsOptions& options() const { return options_; }  // table_max_length filled in
     const SegmentIntegrator& integrator() const { return integrator_; }
     const Range& range() const { return range_; }
     double longest_edge() const { return longest_edge_; }
-    const std::vector<uint32_t>& faces() const { return faces_; }  // 3 point indices per unique face
+    // 3 point indices per face drawn: the unique faces, then, for each internal face across which the field jumps,
+    // the face again with its second tetrahedron's points (and so its scalars).
+    const std::vector<uint32_t>& faces() const { return faces_; }
     std::size_t face_count() const { return faces_.size() / 3; }
     const PreintegrationTable* table() const { return table_.get(); }  // null with --segment exact
     double table_ms() const { return table_ms_; }
 
-    // The normalized scalar of point i and whether face f can be an exit face (exact gaps only).
+    // The normalized scalar of point i and whether face f can be an exit face (exact gaps only). With a cell field,
+    // the points are those of mesh(), the per-cell vertex mesh (gpu/pipeline/drawn_mesh.h).
     double scalar_n(std::size_t i) const { return scalar_n_[i]; }
     bool exit_capable(std::size_t f) const { return boundary_[f] != 0; }
 
 private:
+    DrawnMesh drawn_mesh_;
     const TetMesh& mesh_;
     HavsOptions options_;
     SegmentIntegrator integrator_;

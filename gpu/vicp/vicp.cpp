@@ -88,10 +88,10 @@ void VicpRenderer::composite_exact_coverage(const VicpFrameConstants& fc, const 
     for (int py = box.py0; py <= box.py1; ++py)
         for (int px = box.px0; px <= box.px1; ++px) {
             const VicpSegment seg = vicp_fragment_values(fc, tet, px, py);
-            // No length, or no exit (the ray lies in the plane of every face it could leave by; its length is then
-            // kVicpNoExit times the ray direction's length, which is near 1, against chords of a mesh's size): not
-            // crossed.
-            if (!(seg.t_out > seg.t_in) || !(seg.length < 1e-10 * kVicpNoExit)) continue;
+            // No length, no exit (the ray lies in the plane of every face it could leave by; its length is then
+            // kVicpNoExit times the ray direction's length, which is near 1, against chords of a mesh's size), or
+            // parallel to a face and outside it: not crossed.
+            if (seg.misses || !(seg.t_out > seg.t_in) || !(seg.length < 1e-10 * kVicpNoExit)) continue;
             const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
             vicp_composite(fc, seg, fb[p], shade, &diag[p]);
         }

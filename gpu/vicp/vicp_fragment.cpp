@@ -46,10 +46,15 @@ VicpSegment vicp_fragment_values(const VicpFrameConstants& fc, const VicpTet& te
     // A face the ray runs along (|b| at rounding level: the ray lies in its plane, which the rasterizer's fill rule
     // decided) bounds nothing: its crossing -a / b would be rounding noise (kParallelFace).
     const double parallel = kParallelFace * ((std::fabs(b[0]) + std::fabs(b[1])) + (std::fabs(b[2]) + std::fabs(b[3])));
+    const double outside = kParallelOutside * ((std::fabs(a[0]) + std::fabs(a[1])) + (std::fabs(a[2]) + std::fabs(a[3])));
     double t_in = 0.0, t_out = kVicpNoExit;
     int exit_face = -1;
+    bool misses = false;
     for (int i = 0; i < 4; ++i) {
-        if (!(std::fabs(b[i]) > parallel)) continue;
+        if (!(std::fabs(b[i]) > parallel)) {
+            misses = misses || a[i] < -outside;
+            continue;
+        }
         const double t = -a[i] / b[i];
         if (b[i] > 0.0 && t > t_in) t_in = t;
         if (b[i] < 0.0 && t < t_out) t_out = t, exit_face = i;
@@ -69,6 +74,7 @@ VicpSegment vicp_fragment_values(const VicpFrameConstants& fc, const VicpTet& te
     out.t_out = t_out * scale;
     out.length = (t_out - t_in) * scale;
     out.exit_face = exit_face;
+    out.misses = misses;
     return out;
 }
 

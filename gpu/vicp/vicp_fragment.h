@@ -31,6 +31,9 @@ struct VicpSegment {
     double length = 0.0;                 // t_out - t_in (negative or 0: the ray misses the tetrahedron)
     int exit_face = -1;                  // the vertex whose opposite face is the exit, -1 for none (emulation only:
                                          // the seed's wrong-exit diagnostic, gpu/vicp/vicp.cpp)
+    // The ray runs parallel to a face and outside its plane (kParallelOutside), so it misses the cell whatever the
+    // other faces say. Only --coverage exact reads it (emulation only): the rasterizer never covers such a pixel.
+    bool misses = false;
 };
 // A face counts as parallel to the ray when |b_i| <= kParallelFace * sum_j |b_j|. A ray lying in a face's plane (a
 // pixel centre on a face seen edge-on, as on an unjittered grid seen along its axes) has b_i = 0 up to the rounding
@@ -38,6 +41,10 @@ struct VicpSegment {
 // others' (it is |m_i| |d| sin(angle), and |m_i| is the face's area over the cell's volume). 1e-12 lies far from
 // both: a ray within 1e-12 radians of a face's plane stays within 1e-12 of the mesh's size from it.
 inline constexpr double kParallelFace = 1e-12;
+// A ray parallel to face i keeps lambda_i = a_i all along. It lies outside the face's plane when a_i < -kParallelOutside
+// * sum_j |a_j|: a ray in the plane has a_i at the rounding of the dot products that make the a's, ~1e-16 of their
+// size, while a pixel beside the plane is a pixel's width over the cell's size away (1e-4 and more).
+inline constexpr double kParallelOutside = 1e-12;
 
 VicpSegment vicp_fragment_values(const VicpFrameConstants& fc, const VicpTet& tet, int px, int py);
 // The exit parameter vicp_fragment_values starts from: it stays there when no face bounds the ray's way out.

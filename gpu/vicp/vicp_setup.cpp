@@ -18,38 +18,39 @@ double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std
 
 VicpMesh::VicpMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
                    const VicpOptions& options)
-    : mesh_(mesh), topo_(topo), options_(options), integrator_(tf), range_(field_range(mesh.fields.at(field)))
+    : drawn_mesh_(mesh, topo, field), mesh_(drawn_mesh_.mesh()), topo_(drawn_mesh_.topology()), options_(options), integrator_(tf),
+      range_(field_range(mesh_.fields.at(drawn_mesh_.field())))
 {
     if (options_.table_size < 2 || options_.table_size > 1024)
         throw InputError("", "--table-size must be between 2 and 1024");
     if (!(options_.threshold >= 0.0f && options_.threshold <= 1.0f))
         throw InputError("", "--threshold must be in [0, 1]");
-    origin_ = mesh_bounds(mesh).center();
-    points_d_.reserve(mesh.points.size());
-    for (const auto& p : mesh.points) points_d_.push_back(p - origin_);
+    origin_ = mesh_bounds(mesh_).center();
+    points_d_.reserve(mesh_.points.size());
+    for (const auto& p : mesh_.points) points_d_.push_back(p - origin_);
     const double span = range_.hi > range_.lo ? range_.hi - range_.lo : 1.0;
-    scalar_n_.reserve(mesh.points.size());
-    for (double s : mesh.fields[field].values) scalar_n_.push_back((s - range_.lo) / span);
+    scalar_n_.reserve(mesh_.points.size());
+    for (double s : mesh_.fields[drawn_mesh_.field()].values) scalar_n_.push_back((s - range_.lo) / span);
     // Orientation by the vertex program's own determinant, so that the sign it sees is the one the CPU checked.
-    orientation_.resize(mesh.tets.size());
-    tbb::parallel_for(std::size_t(0), mesh.tets.size(), [&](std::size_t i) {
-        const Tet& t = mesh.tets[i];
+    orientation_.resize(mesh_.tets.size());
+    tbb::parallel_for(std::size_t(0), mesh_.tets.size(), [&](std::size_t i) {
+        const Tet& t = mesh_.tets[i];
         const glm::dvec3 p[4] = {points_d_[t[0]], points_d_[t[1]], points_d_[t[2]], points_d_[t[3]]};
         const double s[4] = {0, 0, 0, 0};
         const double det = vicp_tet_constants(p, p, s, 0).det;
         orientation_[i] = det > 0.0 ? 1 : det < 0.0 ? 2 : 0;
     });
     for (uint8_t o : orientation_) drawn_ += o ? 1 : 0;
-    boundary_.resize(mesh.tets.size());
-    for (std::size_t i = 0; i < mesh.tets.size(); ++i) {
+    boundary_.resize(mesh_.tets.size());
+    for (std::size_t i = 0; i < mesh_.tets.size(); ++i) {
         uint8_t bits = 0;
         for (int f = 0; f < 4; ++f) {
-            const int32_t fi = topo.tet_faces[i][std::size_t(f)];
-            if (fi >= 0 && topo.faces[std::size_t(fi)].boundary()) bits |= uint8_t(1u << f);
+            const int32_t fi = topo_.tet_faces[i][std::size_t(f)];
+            if (fi >= 0 && topo_.faces[std::size_t(fi)].boundary()) bits |= uint8_t(1u << f);
         }
         boundary_[i] = bits;
     }
-    if (!(options_.table_max_length > 0.0)) options_.table_max_length = longest_tet_edge(mesh);
+    if (!(options_.table_max_length > 0.0)) options_.table_max_length = longest_tet_edge(mesh_);
     if (options_.segment == SegmentMode::table)
         table_ = build_segment_table(integrator_, range_, options_.table_size, options_.table_format,
                                      options_.table_max_length, table_ms_);

@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "gpu/pipeline/drawn_mesh.h"
 #include "gpu/pipeline/exact_coverage.h"
 #include "gpu/pipeline/segment.h"
 #include "gpu/vicp/vicp_clip.h"
@@ -46,7 +47,7 @@ public:
     VicpMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
              const VicpOptions& options);
 
-    const TetMesh& mesh() const { return mesh_; }
+    const TetMesh& mesh() const { return mesh_; }  // the mesh drawn (gpu/pipeline/drawn_mesh.h)
     const MeshTopology& topology() const { return topo_; }
     const VicpOptions& options() const { return options_; }  // table_max_length filled in
     const SegmentIntegrator& integrator() const { return integrator_; }
@@ -70,6 +71,7 @@ public:
     void seed_records(const VicpCell& cell, const std::vector<glm::vec3>& points_f, VicpSeedVertex out[12]) const;
 
 private:
+    DrawnMesh drawn_mesh_;
     const TetMesh& mesh_;
     const MeshTopology& topo_;
     VicpOptions options_;

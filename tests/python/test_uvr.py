@@ -122,7 +122,7 @@ def cube_arrays():
     return points, tets, scalars
 
 
-def write_vtk(path, points, tets, scalars):
+def write_vtk(path, points, tets, scalars, cell_scalars=None):
     with open(path, "w") as f:
         f.write("# vtk DataFile Version 3.0\ncube\nASCII\nDATASET UNSTRUCTURED_GRID\n")
         f.write(f"POINTS {len(points)} double\n")
@@ -132,6 +132,31 @@ def write_vtk(path, points, tets, scalars):
         f.write(f"CELL_TYPES {len(tets)}\n" + "10\n" * len(tets))
         f.write(f"POINT_DATA {len(points)}\nSCALARS s double 1\nLOOKUP_TABLE default\n")
         f.writelines(f"{v!r}\n" for v in scalars)
+        if cell_scalars is not None:
+            f.write(f"CELL_DATA {len(tets)}\nSCALARS c double 1\nLOOKUP_TABLE default\n")
+            f.writelines(f"{v!r}\n" for v in cell_scalars)
+
+
+def test_cell_values_and_per_cell_vertex_values_from_arrays_render_as_the_same_files(tmp_path):
+    points, tets, scalars = cube_arrays()
+    cell = np.array([0.1, 0.7, 0.3, 0.9, 0.5])
+    write_vtk(tmp_path / "cells.vtk", points, tets, scalars, cell_scalars=cell)
+    from_arrays = uvr.Scene(uvr.mesh(points, tets, scalars, name="s", cell_scalars={"c": cell}), field="c", **SMALL)
+    from_file = uvr.Scene(str(tmp_path / "cells.vtk"), field="c", **SMALL)
+    for algo in ("reference", "havs", "vicp"):
+        assert same_bits(uvr.render(from_arrays, algo), uvr.render(from_file, algo)), algo
+    # Per-cell vertex values (M x 4): each tetrahedron's own values, here jumping by 0.5 from one to the next; the
+    # same as a file that writes every point once per tetrahedron.
+    per_vertex = scalars[tets] + 0.5 * np.arange(len(tets))[:, None]
+    write_vtk(tmp_path / "repeated.vtk", points[tets.reshape(-1)], np.arange(4 * len(tets)).reshape(-1, 4),
+              per_vertex.reshape(-1))
+    jumping = uvr.Scene(uvr.mesh(points, tets, per_vertex, name="s"), **SMALL)
+    from_file = uvr.Scene(str(tmp_path / "repeated.vtk"), **SMALL)
+    assert jumping.tetrahedra == 5
+    for algo in ("reference", "havs", "vicp"):
+        assert same_bits(uvr.render(jumping, algo), uvr.render(from_file, algo)), algo
+    continuous = uvr.Scene(uvr.mesh(points, tets, scalars, name="s"), **SMALL)
+    assert not same_bits(uvr.render(jumping, "reference"), uvr.render(continuous, "reference"))
 
 
 def test_a_mesh_from_arrays_renders_as_the_same_mesh_read_from_a_file(tmp_path):
@@ -238,6 +263,9 @@ def test_bad_input_raises_uvr_error_with_uvrs_message(tmp_path):
         (lambda: uvr.mesh(points, tets.astype(float), scalars), "array of integers"),
         (lambda: uvr.mesh(np.where(points == 1, np.nan, points), tets, scalars), "arrays"),
         (lambda: uvr.mesh(points, tets, scalars[:-1]), "arrays"),
+        (lambda: uvr.mesh(points, tets, np.zeros((4, 4))), "4 rows for 5 tetrahedra"),
+        (lambda: uvr.mesh(points, tets, cell_scalars=np.zeros(4)), "4 values for 5 tetrahedra"),
+        (lambda: uvr.mesh(points, tets), "no scalar field given"),
         (lambda: uvr.volume(np.zeros((4, 4))), "Z x Y x X"),
         (lambda: uvr.Scene("builtin:torus-small", size=(0, 10)), "size"),
         (lambda: uvr.render(scene, "havs", k=0), "'k' must be a whole number of at least 1, or 'all'"),
