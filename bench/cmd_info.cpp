@@ -68,8 +68,11 @@ void print_format(const nlohmann::json& f)
         std::printf("  block        %s '%s': %s, %s elements\n", b.value("id", nlohmann::json()).dump().c_str(),
                     b.value("name", std::string()).c_str(), b.value("type", std::string()).c_str(),
                     b.value("elements", nlohmann::json()).dump().c_str());
-    for (const char* key : {"node_sets", "side_sets", "nodal_variables", "element_variables"})
-        if (f.contains(key)) std::printf("  %-12s %s\n", key, names(f[key]).c_str());
+    const std::pair<const char*, const char*> lists[] = {
+        {"node_sets", "node sets"}, {"side_sets", "side sets"}, {"nodal_variables", "nodal vars"},
+        {"element_variables", "element vars"}};
+    for (const auto& [key, label] : lists)
+        if (f.contains(key)) std::printf("  %-12s %s\n", label, names(f[key]).c_str());
     if (f.contains("times"))
         std::printf("  time steps   %zu (reading %s)\n", f["times"].size(),
                     f.value("time_step", nlohmann::json()).dump().c_str());

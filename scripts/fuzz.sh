@@ -17,7 +17,7 @@ cd "$(dirname "$0")/.."
 root=$PWD
 seconds="${1:-60}"
 shift || true
-all=(vtk_legacy vtu vti tetgen off plot3d nrrd mha slc raw_volume transfer_function camera)
+all=(vtk_legacy vtu vti tetgen off plot3d nrrd mha slc raw_volume exodus transfer_function camera)
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
 data="${UVR_DATA_DIR:-$root/../shared/data}"
