@@ -38,7 +38,8 @@ int write_block(int n, const std::string& path)
     if (ex_put_block(exo, EX_ELEM_BLOCK, 1, "HEX8", elems, 8, 0, 0, 0) < 0) return fail("ex_put_block");
     std::vector<int> conn;
     conn.reserve(std::size_t(8 * elems));
-    const int64_t corner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    const int64_t corner[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                  {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
     for (int64_t k = 0; k < n; ++k)
         for (int64_t j = 0; j < n; ++j)
             for (int64_t i = 0; i < n; ++i) {

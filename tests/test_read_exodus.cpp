@@ -2,6 +2,7 @@
 // netCDF-4), read back exactly, and bad input refused with a message naming the file.
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -629,4 +630,22 @@ TEST_CASE("uvr render draws an Exodus II hexahedral mesh with every algorithm, G
         CHECK(file_contents(render("havs", "gl")) == file_contents(render("havs", "emu")));
         CHECK(file_contents(render("vicp", "gl")) == file_contents(render("vicp", "emu")));
     }
+}
+
+TEST_CASE("a .g file is read as Exodus II when it is netCDF and as a PLOT3D grid otherwise", "[exodus]")
+{
+    TempDir dir("exodus-g");
+    const std::string genesis = dir.file("mesh.g");
+    write_exodus(genesis, hexahedral_block());
+    const uvr::Dataset exodus = uvr::load_dataset(genesis);
+    REQUIRE(exodus.mesh);
+    CHECK(exodus.mesh->tets.size() == 4 * 3 * 2 * 6);
+    CHECK(exodus.info["format"] == "Exodus II");
+    // Blunt Fin's PLOT3D grid under the name .g: PLOT3D, as before.
+    const std::string grid = dir.file("grid.g");
+    std::filesystem::copy_file(uvr::test::data_path("vtk-data/bluntfinxyz.bin"), grid);
+    const uvr::Dataset plot3d = uvr::load_dataset(grid);
+    REQUIRE(plot3d.mesh);
+    CHECK(plot3d.mesh->tets.size() == 187395);
+    CHECK(plot3d.info.is_null());
 }
