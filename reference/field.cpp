@@ -1,5 +1,7 @@
 #include "reference/field.h"
 
+#include "reference/error.h"
+
 namespace uvr {
 
 const char* field_kind_name(FieldKind kind)
@@ -49,6 +51,9 @@ FieldSummary summarize_field(const TetMesh& mesh, const MeshTopology& topo, cons
 TetMesh per_cell_vertex_mesh(const TetMesh& mesh, std::size_t field)
 {
     const ScalarField& f = mesh.fields.at(field);
+    if (mesh.tets.size() > UINT32_MAX / 4)
+        throw InputError(mesh.source, "more than 2^30 tetrahedra: a field drawn per cell needs four points of its own "
+                                      "for each, and point indices are 32-bit");
     TetMesh out;
     out.source = mesh.source;
     out.points.reserve(4 * mesh.tets.size());

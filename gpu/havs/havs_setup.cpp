@@ -24,32 +24,9 @@ HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t fi
     : drawn_mesh_(mesh, topo, field), mesh_(drawn_mesh_.mesh()), options_(options), integrator_(tf),
       range_(field_range(mesh_.fields.at(drawn_mesh_.field())))
 {
-    const MeshTopology& drawn_topo = drawn_mesh_.topology();
     const double span = range_.hi > range_.lo ? range_.hi - range_.lo : 1.0;
     for (double s : mesh_.fields[drawn_mesh_.field()].values) scalar_n_.push_back((s - range_.lo) / span);
-    // A boundary face made only of seam points lies on a seam inside the mesh (the O-grid seam of
-    // docs/data-model.md), not on the mesh's surface, so it is never a gap's start.
-    const std::vector<uint8_t> seam_point = seam_points(mesh_, drawn_topo);
-    const std::vector<uint8_t> jump = field_jump_faces(mesh_, drawn_topo, mesh_.fields[drawn_mesh_.field()]);
-    faces_.reserve(drawn_topo.faces.size() * 3);
-    boundary_.reserve(drawn_topo.faces.size());
-    for (const Face& f : drawn_topo.faces) {
-        faces_.insert(faces_.end(), f.v.begin(), f.v.end());
-        const bool seam = seam_point[f.v[0]] && seam_point[f.v[1]] && seam_point[f.v[2]];
-        boundary_.push_back(options_.gaps == GapMode::exact && f.boundary() && !seam ? 1 : 0);
-    }
-    // A face across which the field jumps is drawn twice, once with each side's points: two coincident faces, each
-    // with its own side's scalars, that the k-buffer orders (--ties facing: the exact order).
-    for (std::size_t i = 0; i < drawn_topo.faces.size(); ++i) {
-        if (!jump[i]) continue;
-        const Face& f = drawn_topo.faces[i];
-        const auto b = std::size_t(f.tet[1]);
-        int local = 0;
-        while (drawn_topo.tet_faces[b][std::size_t(local)] != int32_t(i)) ++local;
-        const auto v = tet_face(mesh_.tets[b], local);
-        faces_.insert(faces_.end(), v.begin(), v.end());
-        boundary_.push_back(0);
-    }
+    add_faces(drawn_mesh_.topology());
     if (options_.entries == EntryEncoding::seed &&
         (options_.interpolation != InterpolationMode::gpu || options_.gaps != GapMode::exact))
         throw InputError("", "--entries seed needs the seed's interpolation (--interpolation gpu) and exact gaps "
@@ -60,6 +37,32 @@ HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t fi
     if (options_.segment == SegmentMode::table)
         table_ = build_segment_table(integrator_, range_, options_.table_size, options_.table_format,
                                      options_.table_max_length, table_ms_);
+}
+
+// The unique faces with their boundary marks, then each face across which the field jumps again, with its second
+// tetrahedron's points: two coincident faces, each with its own side's scalars, that the k-buffer orders (--ties
+// facing: the exact order). A boundary face made only of seam points lies on a seam inside the mesh (the O-grid seam of
+// docs/data-model.md), not on the mesh's surface, so it is never a gap's start.
+void HavsMesh::add_faces(const MeshTopology& topo)
+{
+    const std::vector<uint8_t> seam_point = seam_points(mesh_, topo);
+    const std::vector<uint8_t> jump = field_jump_faces(mesh_, topo, mesh_.fields[drawn_mesh_.field()]);
+    faces_.reserve(topo.faces.size() * 3);
+    boundary_.reserve(topo.faces.size());
+    for (const Face& f : topo.faces) {
+        faces_.insert(faces_.end(), f.v.begin(), f.v.end());
+        const bool seam = seam_point[f.v[0]] && seam_point[f.v[1]] && seam_point[f.v[2]];
+        boundary_.push_back(options_.gaps == GapMode::exact && f.boundary() && !seam ? 1 : 0);
+    }
+    for (std::size_t i = 0; i < topo.faces.size(); ++i) {
+        if (!jump[i]) continue;
+        const auto b = std::size_t(topo.faces[i].tet[1]);
+        int local = 0;
+        while (topo.tet_faces[b][std::size_t(local)] != int32_t(i)) ++local;
+        const auto v = tet_face(mesh_.tets[b], local);
+        faces_.insert(faces_.end(), v.begin(), v.end());
+        boundary_.push_back(0);
+    }
 }
 
 namespace {

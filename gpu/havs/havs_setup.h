@@ -85,6 +85,8 @@ public:
     bool exit_capable(std::size_t f) const { return boundary_[f] != 0; }
 
 private:
+    void add_faces(const MeshTopology& topo);  // faces_ and boundary_
+
     DrawnMesh drawn_mesh_;
     const TetMesh& mesh_;
     HavsOptions options_;

@@ -35,7 +35,8 @@ GLint64 max_block_bytes(const GlContext& ctx)
     return block;
 }
 
-const VicpOptions& checked_gl_options(const GlContext& ctx, const TetMesh& mesh, const VicpOptions& o)
+const VicpOptions& checked_gl_options(const GlContext& ctx, const TetMesh& mesh, std::size_t field,
+                                      const VicpOptions& o)
 {
     const GlInfo& info = ctx.info();
     if (!info.has_extension(kFramebufferFetch))
@@ -52,10 +53,13 @@ const VicpOptions& checked_gl_options(const GlContext& ctx, const TetMesh& mesh,
                              "program samples the pre-integrated table");
     if (o.coverage == Coverage::exact)
         throw InputError("", "--coverage exact runs only in the emulation (--backend emu): a GPU's rasterizer snaps");
-    // The per-point arrays are read at any index by every draw: each must fit one storage block.
-    const double point_bytes = 3.0 * sizeof(double) * double(mesh.points.size());
+    // The per-point arrays are read at any index by every draw: each must fit one storage block. A cell field is
+    // drawn on four points a cell (gpu/pipeline/drawn_mesh.h).
+    const bool cell_field = mesh.fields.at(field).association == FieldAssociation::cell;
+    const std::size_t points = cell_field ? 4 * mesh.tets.size() : mesh.points.size();
+    const double point_bytes = 3.0 * sizeof(double) * double(points);
     if (point_bytes > double(max_block_bytes(ctx)))
-        throw InputError("", "the mesh's " + std::to_string(mesh.points.size()) +
+        throw InputError("", "the mesh's " + std::to_string(points) +
                                  " points exceed what the GL backend of VICP holds on " + info.renderer + " (" +
                                  std::to_string(max_block_bytes(ctx) / 24) +
                                  " points: one storage block of doubles); use --backend emu");
@@ -106,7 +110,7 @@ std::size_t GlVicpRenderer::cells_per_draw() const
 
 GlVicpRenderer::GlVicpRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
                                const TransferFunction& tf, const VicpOptions& options)
-    : ctx_(ctx), mesh_(mesh, topo, field, tf, checked_gl_options(ctx, mesh, options))
+    : ctx_(ctx), mesh_(mesh, topo, field, tf, checked_gl_options(ctx, mesh, field, options))
 {
     ctx_.make_current();
     const GlFunctions& gl = ctx_.gl();
