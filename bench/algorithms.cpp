@@ -10,96 +10,34 @@
 #include "bench/progress.h"
 #include "gpu/havs/gl_havs.h"
 #include "gpu/havs/gl_havs_arb.h"
+#include "gpu/pipeline/llvmpipe_cpu.h"
 #include "gpu/raycast/gl_raycast.h"
 #include "gpu/vicp/gl_vicp.h"
 #include "reference/error.h"
 #include "reference/image_cache.h"
 #include "reference/reference_renderer.h"
+#include "reference/timing.h"
 
 namespace uvr::cli {
 
-int parse_k(const std::string& v)
-{
-    if (v == "all") return gpu::kEveryFragment;
-    char* end = nullptr;
-    const long k = std::strtol(v.c_str(), &end, 10);
-    if (v.empty() || *end != '\0' || k < 1 || k > std::numeric_limits<int>::max())
-        throw CLI::ValidationError("--k", "must be a whole number of at least 1, or all, not '" + v + "'");
-    return int(k);
-}
-
-nlohmann::json k_json(int k)
-{
-    if (k == gpu::kEveryFragment) return "all";
-    return k;
-}
-
-void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k)
-{
-    cmd.add_option("--backend", o.backend,
-                   "emu | gl | arb (HAVS only: the seed's own ARB programs under an OSMesa compatibility context)")
-        ->capture_default_str();
-    cmd.add_option("--gl", o.gl, "With --backend gl: osmesa | egl")->capture_default_str();
-    if (with_k)
-        cmd.add_option_function<std::string>(
-               "--k", [&o](const std::string& v) { o.k = parse_k(v); },
-               "HAVS: k-buffer entries, or all (every fragment of a pixel held until the flush: the exact sort; "
-               "emulation only)")
-            ->default_str(std::to_string(o.k));
-    cmd.add_option("--ties", o.ties,
-                   "HAVS with --k all: arrival (at one distance the older fragment first, as a k-buffer takes them) | "
-                   "facing (back faces first: exact where a seam's coincident faces carry two scalars)")
-        ->capture_default_str();
-    cmd.add_option("--segment", o.segment, "HAVS: table | exact (emulation only)")->capture_default_str();
-    cmd.add_option("--gaps", o.gaps, "HAVS: exact | maxgap (VTK's heuristic)")->capture_default_str();
-    cmd.add_option("--order", o.order, "VICP: cell order, mpvonc | centroid")->capture_default_str();
-    cmd.add_option("--coverage", o.coverage,
-                   "HAVS, VICP: gpu (the rasterizer's snapped coverage) | exact (the ray through the pixel centre "
-                   "crosses the primitive; emulation only)")
-        ->capture_default_str();
-    cmd.add_option("--interpolation", o.interpolation,
-                   "HAVS, VICP, ray caster: gpu (the rasterizer's interpolated varyings, the seed's pipeline; "
-                   "default) | exact (the fragment's values in double from the ray through the pixel centre). compare "
-                   "takes the list gpu,exact: each algorithm in both modes, side by side");
-    cmd.add_option("--entries", o.entries,
-                   "HAVS: marked (exit, entry and extrapolated fragments told apart; default) | seed (the seed's "
-                   "program as printed: the scalar itself, exit faces negative; the default with --backend arb)");
-    cmd.add_option("--arb-draw", o.arb_draw, "With --backend arb: triangles per draw call (0: 131072)");
-    cmd.add_flag("--arb-barrier", o.arb_barrier, "With --backend arb: a texture barrier after every draw call");
-    cmd.add_option("--send", o.send,
-                   "HAVS with --backend gl or arb, VICP on gl: covered (the CPU sends the triangles that make "
-                   "fragments: those that cover a pixel, for VICP front-facing; the same image) | all (every face, as "
-                   "the seeds do)")
-        ->capture_default_str();
-    cmd.add_option("--threshold", o.threshold, "Early-termination opacity (HAVS 0.99, VICP 1; 1 switches it off)");
-    cmd.add_option("--table-size", o.table_size, "HAVS: pre-integration table texels per axis")->capture_default_str();
-    cmd.add_option("--table-format", o.table_format, "HAVS: f32 | u16 | u8")->capture_default_str();
-    cmd.add_flag("--no-cache", o.no_cache, "Do not read or write the reference image cache");
-    if (with_k)  // sweep takes a list of steps
-        cmd.add_option("--step", o.step, "Ray caster: step in world units (default: half the smallest spacing)");
-    cmd.add_flag("--preintegrate", o.preintegrate, "Ray caster: pre-integrated segments between samples");
-    cmd.add_option("--light", o.light, "Ray caster: X,Y,Z of a point light (world coordinates): Blinn-Phong shading");
-    cmd.add_option("--volume-format", o.volume_format, "Ray caster: volume texture, native | f32 | u16 | u8")
-        ->capture_default_str();
-}
-
 namespace {
 
-// The options every algorithm with a pre-integrated table shares: --segment, --threshold (`default_threshold` when
-// unset), --table-size and --table-format.
 gpu::Coverage coverage_option(const AlgoOptions& a)
 {
-    if (a.coverage != "gpu" && a.coverage != "exact") throw InputError("", "--coverage must be gpu or exact");
-    return a.coverage == "exact" ? gpu::Coverage::exact : gpu::Coverage::gpu;
+    return parse_choice("--coverage", gpu::kCoverages, a.coverage);
 }
 
-
-// --interpolation gpu (the default: the seed's pipeline) or exact.
 gpu::InterpolationMode interpolation_option(const AlgoOptions& a)
 {
-    if (a.interpolation == "exact") return gpu::InterpolationMode::exact;
-    if (a.interpolation.empty() || a.interpolation == "gpu") return gpu::InterpolationMode::gpu;
-    throw InputError("", "--interpolation must be gpu or exact");
+    return a.interpolation.empty() ? gpu::InterpolationMode::gpu
+                                   : parse_choice("--interpolation", gpu::kInterpolationModes, a.interpolation);
+}
+
+// The emulation models llvmpipe on the CPU's features as Mesa decides them; an environment that takes away more than
+// FMA is refused before any work (gpu/pipeline/llvmpipe_cpu.h).
+void check_emulated_cpu(const AlgoOptions& a)
+{
+    if (a.backend == "emu") gpu::require_emulated_cpu_caps();
 }
 
 struct TableOptions {
@@ -109,53 +47,50 @@ struct TableOptions {
     gpu::TexelFormat table_format = gpu::TexelFormat::f32;
 };
 
+// The options every algorithm with a pre-integrated table shares: --segment, --threshold (`default_threshold` when
+// unset), --table-size and --table-format.
 TableOptions table_options(const AlgoOptions& a, double default_threshold)
 {
     TableOptions o;
-    if (a.segment != "table" && a.segment != "exact") throw InputError("", "--segment must be table or exact");
-    o.segment = a.segment == "exact" ? gpu::SegmentMode::exact : gpu::SegmentMode::table;
-    if (a.threshold >= 0.0 && a.threshold > 1.0) throw InputError("", "--threshold must be in [0, 1]");
+    o.segment = parse_choice("--segment", gpu::kSegmentModes, a.segment);
     o.threshold = float(a.threshold < 0.0 ? default_threshold : a.threshold);
-    if (a.table_size < 2 || a.table_size > 1024) throw InputError("", "--table-size must be between 2 and 1024");
     o.table_size = a.table_size;
-    if (a.table_format == "f32")
-        o.table_format = gpu::TexelFormat::f32;
-    else if (a.table_format == "u16")
-        o.table_format = gpu::TexelFormat::u16;
-    else if (a.table_format == "u8")
-        o.table_format = gpu::TexelFormat::u8;
-    else
-        throw InputError("", "--table-format must be f32, u16 or u8");
+    o.table_format = parse_choice("--table-format", gpu::kTexelFormats, a.table_format);
     return o;
+}
+
+gpu::TriangleSubmission submission(const AlgoOptions& a)
+{
+    return parse_choice("--send", gpu::kTriangleSubmissions, a.send);
 }
 
 }  // namespace
 
 gpu::HavsOptions havs_options(const AlgoOptions& a)
 {
+    check_emulated_cpu(a);
     const TableOptions t = table_options(a, 0.99);
     gpu::HavsOptions o;
     o.k = a.k;
-    if (a.ties != "arrival" && a.ties != "facing") throw InputError("", "--ties must be arrival or facing");
-    o.ties = a.ties == "facing" ? gpu::TieOrder::facing : gpu::TieOrder::arrival;
+    o.ties = parse_choice("--ties", gpu::kTieOrders, a.ties);
     o.segment = t.segment;
-    if (a.gaps != "exact" && a.gaps != "maxgap") throw InputError("", "--gaps must be exact or maxgap");
-    o.gaps = a.gaps == "maxgap" ? gpu::GapMode::maxgap : gpu::GapMode::exact;
+    o.gaps = parse_choice("--gaps", gpu::kGapModes, a.gaps);
     o.threshold = t.threshold;
     o.table_size = t.table_size;
     o.table_format = t.table_format;
     o.coverage = coverage_option(a);
     o.interpolation = interpolation_option(a);
-    const std::string entries = a.entries.empty() ? (a.backend == "arb" ? "seed" : "marked") : a.entries;
-    if (entries != "marked" && entries != "seed") throw InputError("", "--entries must be marked or seed");
-    o.entries = entries == "seed" ? gpu::EntryEncoding::seed : gpu::EntryEncoding::marked;
+    o.entries = a.entries.empty()
+                    ? (a.backend == "arb" ? gpu::EntryEncoding::paper : gpu::EntryEncoding::marked)
+                    : parse_choice("--entries", gpu::kEntryEncodings, a.entries, gpu::kEntryEncodingsRenamed);
     if (a.backend == "arb") gpu::check_arb_options(o);
-    if (a.send != "covered" && a.send != "all") throw InputError("", "--send must be covered or all");
+    submission(a);
     return o;
 }
 
 gpu::VicpOptions vicp_options(const AlgoOptions& a)
 {
+    check_emulated_cpu(a);
     const TableOptions t = table_options(a, 1.0);
     gpu::VicpOptions o;
     o.interpolation = interpolation_option(a);
@@ -165,19 +100,18 @@ gpu::VicpOptions vicp_options(const AlgoOptions& a)
     o.table_size = t.table_size;
     o.table_format = t.table_format;
     o.coverage = coverage_option(a);
-    if (a.send != "covered" && a.send != "all") throw InputError("", "--send must be covered or all");
+    submission(a);
     return o;
 }
 
 gpu::RaycastOptions raycast_options(const AlgoOptions& a)
 {
+    check_emulated_cpu(a);
     const TableOptions t = table_options(a, 0.95);
     gpu::RaycastOptions o;
     o.interpolation = interpolation_option(a);
     if (coverage_option(a) == gpu::Coverage::exact)
         throw InputError("", "--coverage exact applies to HAVS and VICP: the ray caster's pass covers every pixel");
-    if (a.step != -1.0 && !(a.step > 0.0 && std::isfinite(a.step)))
-        throw InputError("", "--step must be positive and finite (world units)");
     o.step = a.step > 0.0 ? a.step : 0.0;  // 0: RaycastVolume's default
     o.preintegrate = a.preintegrate;
     if (t.segment == gpu::SegmentMode::exact && !a.preintegrate)
@@ -188,25 +122,16 @@ gpu::RaycastOptions raycast_options(const AlgoOptions& a)
     o.table_size = t.table_size;
     o.table_format = t.table_format;
     o.volume_format = gpu::parse_volume_format(a.volume_format);
-    if (!a.light.empty()) {
+    if (!a.light.empty()) {  // three finite numbers: the table's parser checked them
         const std::vector<std::string> xyz = split_list(a.light);
         gpu::RaycastLight light;
-        bool ok = xyz.size() == 3;
-        for (int i = 0; ok && i < 3; ++i) {
-            char* end = nullptr;
-            light.position[i] = std::strtod(xyz[std::size_t(i)].c_str(), &end);
-            ok = end && *end == '\0' && std::isfinite(light.position[i]);
-        }
-        if (!ok) throw InputError("", "--light must be X,Y,Z (three finite numbers), not '" + a.light + "'");
+        for (int i = 0; i < 3; ++i) light.position[i] = std::strtod(xyz[std::size_t(i)].c_str(), nullptr);
         o.light = light;
     }
     return o;
 }
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 void check_backend(const Algorithm& algo, const AlgoOptions& a)
 {
@@ -276,11 +201,6 @@ private:
 
 // --- HAVS (gpu/havs/): emulated, or on GL ---
 
-gpu::TriangleSubmission submission(const AlgoOptions& a)
-{
-    return a.send == "all" ? gpu::TriangleSubmission::all : gpu::TriangleSubmission::covered;
-}
-
 class HavsRendererEntry : public Renderer {
 public:
     HavsRendererEntry(const Scene& s, const AlgoOptions& a) : a_(a)
@@ -296,7 +216,7 @@ public:
             if (a.gl != "osmesa")
                 throw InputError("", "--backend arb runs under OSMesa's compatibility profile only (--gl osmesa)");
             if (a.require_diagnostics)
-                throw InputError("", "--diagnostics: the seed's ARB program writes no per-pixel diagnostics");
+                throw InputError("", "--diagnostics: the paper's ARB program writes no per-pixel diagnostics");
             ctx_ = std::make_unique<gpu::GlContext>(gpu::GlPlatform::osmesa, gpu::GlProfile::compatibility);
             arb_ = std::make_unique<gpu::ArbHavsRenderer>(*ctx_, s.mesh(), *s.topology, s.field, s.tf, o);
             arb_->set_triangles_per_draw(a.arb_draw);
@@ -325,19 +245,26 @@ public:
         const gpu::HavsMesh& hm = emu_ ? emu_->cpu_stage() : arb_ ? arb_->cpu_stage() : gl_->cpu_stage();
         r.stats = {{"k", k_json(a_.k)},
                    {"ties", a_.ties},
-                   {"entries", hm.options().entries == gpu::EntryEncoding::seed ? "seed" : "marked"},
+                   {"entries", std::string(choice_name(gpu::kEntryEncodings, hm.options().entries))},
                    {"segment", a_.segment},
                    {"gaps", a_.gaps},
                    {"coverage", a_.coverage},
                    {"interpolation", a_.interpolation.empty() ? "gpu" : a_.interpolation},
                    {"faces", st.faces},
                    {"table_ms", st.table_ms},
-                   {"clip", {{"triangles", st.triangles}, {"clipped_faces", st.clipped_faces},
-                             {"culled_faces", st.culled_faces}, {"near_sections", st.near_sections},
-                             {"gpu_clipped", st.gpu_clipped}, {"uncovered", st.uncovered}}},
-                   {"stages_ms", {{"sort", st.sort_ms}, {"vertex_and_setup", st.setup_ms},
-                                  {"raster_and_fragment", st.raster_fragment_ms}, {"flush", st.flush_ms},
-                                  {"readback", st.readback_ms}}}};
+                   {"clip",
+                    {{"triangles", st.triangles},
+                     {"clipped_faces", st.clipped_faces},
+                     {"culled_faces", st.culled_faces},
+                     {"near_sections", st.near_sections},
+                     {"gpu_clipped", st.gpu_clipped},
+                     {"uncovered", st.uncovered}}},
+                   {"stages_ms",
+                    {{"sort", st.sort_ms},
+                     {"vertex_and_setup", st.setup_ms},
+                     {"raster_and_fragment", st.raster_fragment_ms},
+                     {"flush", st.flush_ms},
+                     {"readback", st.readback_ms}}}};
         if (!f.fragments.empty()) {
             r.stats["fragments"] = st.fragments;
             r.stats["max_fragments_per_pixel"] = st.max_fragments;
@@ -400,14 +327,21 @@ public:
                    {"face_dependencies", st.order.face_dependencies},
                    {"ray_dependencies", st.order.ray_dependencies},
                    {"bytes_sent_per_tet", gpu::vicp_sent_bytes_per_cell(vm, st.sent_faces)},
-                   {"seed_bytes_sent_per_tet", gpu::kSeedBytesSentPerCell},
+                   {"published_bytes_sent_per_tet", gpu::kPublishedBytesSentPerCell},
                    {"resident_bytes_per_tet", gpu::vicp_resident_bytes_per_cell(vm)},
                    {"table_ms", st.table_ms},
-                   {"clip", {{"clipped_cells", st.clipped_cells}, {"culled_cells", st.culled_cells},
-                             {"near_sections", st.near_sections}, {"fan_triangles", st.fan_triangles},
-                             {"gpu_clipped", st.gpu_clipped}}},
-                   {"stages_ms", {{"sort", st.sort_ms}, {"project", st.project_ms}, {"vertex_and_setup", st.setup_ms},
-                                  {"raster_and_fragment", st.raster_fragment_ms}, {"readback", st.readback_ms}}}};
+                   {"clip",
+                    {{"clipped_cells", st.clipped_cells},
+                     {"culled_cells", st.culled_cells},
+                     {"near_sections", st.near_sections},
+                     {"fan_triangles", st.fan_triangles},
+                     {"gpu_clipped", st.gpu_clipped}}},
+                   {"stages_ms",
+                    {{"sort", st.sort_ms},
+                     {"project", st.project_ms},
+                     {"vertex_and_setup", st.setup_ms},
+                     {"raster_and_fragment", st.raster_fragment_ms},
+                     {"readback", st.readback_ms}}}};
         if (vm.options().interpolation == gpu::InterpolationMode::gpu) {
             // The wrong-exit and length diagnostics compare with the exact segment, which only the emulation computes
             // (the GL frame is the emulation's, bit for bit: tests/test_vicp_gl_frame.cpp); null on GL.
@@ -468,7 +402,8 @@ public:
                    {"table_ms", st.table_ms},
                    {"stages_ms", {{"setup", st.setup_ms}, {"march", st.march_ms}, {"readback", st.readback_ms}}}};
         if (o.interpolation == gpu::InterpolationMode::gpu) {
-            // The seed's box passes: what was drawn, and (emulation only) entries, entries without an exit, overlaps.
+            // The published box passes: what was drawn, and (emulation only) entries, entries without an exit,
+            // overlaps.
             r.stats["box"] = {{"triangles", st.box_triangles}, {"near_sections", st.near_sections},
                               {"clipped_faces", st.clipped_faces}, {"gpu_clipped", st.gpu_clipped}};
             if (emu_) {
@@ -515,13 +450,17 @@ std::vector<Algorithm> make_registry()
                                  r["segments_per_s"].get<double>() / 1e6, stage(r, "setup"));
                  }});
 
-    r.push_back({"havs", Inputs::mesh, {"emu", "gl", "arb"}, [](const AlgoOptions& a) { havs_options(a); },
+    r.push_back({"havs",
+                 Inputs::mesh,
+                 {"emu", "gl", "arb"},
+                 [](const AlgoOptions& a) { havs_options(a); },
                  [](const AlgoOptions& a) {
-                     // The seed's interpolation is the default; the exact variant says so in its label, and so do
-                     // entries other than the backend's default (the seed's on arb, uvr's marked ones elsewhere).
+                     // The published interpolation is the default; the exact variant says so in its label, and so do
+                     // entries other than the backend's default (the published on arb, uvr's marked ones elsewhere).
                      const bool arb = a.backend == "arb";
-                     const std::string entries =
-                         a.entries.empty() || a.entries == (arb ? "seed" : "marked") ? "" : "-" + a.entries + "-entries";
+                     const std::string entries = a.entries.empty() || a.entries == (arb ? "paper" : "marked")
+                                                     ? ""
+                                                     : "-" + a.entries + "-entries";
                      return "havs-" + a.backend + "-k" + (a.k == gpu::kEveryFragment ? "all" : std::to_string(a.k)) +
                             (a.ties == "facing" ? "-facing-ties" : "") +
                             (a.interpolation == "exact" ? "-exact-interpolation" : "") + entries;
@@ -546,7 +485,10 @@ std::vector<Algorithm> make_registry()
                                  stage(r, "flush"), stage(r, "readback"), r["build_ms"].get<double>());
                  }});
 
-    r.push_back({"vicp", Inputs::mesh, {"emu", "gl"}, [](const AlgoOptions& a) { vicp_options(a); },
+    r.push_back({"vicp",
+                 Inputs::mesh,
+                 {"emu", "gl"},
+                 [](const AlgoOptions& a) { vicp_options(a); },
                  [](const AlgoOptions& a) {
                      return "vicp-" + a.backend + "-" + a.order + (a.interpolation == "exact" ? "-exact-interpolation" : "");
                  },
@@ -566,15 +508,16 @@ std::vector<Algorithm> make_registry()
                      row["fragments_per_s"] = per_s(row["fragments"].get<double>(), stage(row, "raster_and_fragment"));
                  },
                  [](const nlohmann::json& r) {
-                     std::printf(" %-8s %6.2f Mfragments/s  sort %.1f, project %.1f, vertex+setup %.1f, raster+fragment "
-                                 "%.1f ms; %.0f bytes sent per tetrahedron (the seed's: %.0f); %llu ordering errors, "
-                                 "%llu cycle breaks\n",
-                                 r["order"].get<std::string>().c_str(), r["fragments_per_s"].get<double>() / 1e6,
-                                 stage(r, "sort"), stage(r, "project"), stage(r, "vertex_and_setup"),
-                                 stage(r, "raster_and_fragment"), r["bytes_sent_per_tet"].get<double>(),
-                                 r["seed_bytes_sent_per_tet"].get<double>(),
-                                 (unsigned long long)r["ordering_errors"].get<uint64_t>(),
-                                 (unsigned long long)r["cycle_breaks"].get<uint64_t>());
+                     std::printf(
+                         " %-8s %6.2f Mfragments/s  sort %.1f, project %.1f, vertex+setup %.1f, raster+fragment "
+                         "%.1f ms; %.0f bytes sent per tetrahedron (the published: %.0f); %llu ordering errors, "
+                         "%llu cycle breaks\n",
+                         r["order"].get<std::string>().c_str(), r["fragments_per_s"].get<double>() / 1e6,
+                         stage(r, "sort"), stage(r, "project"), stage(r, "vertex_and_setup"),
+                         stage(r, "raster_and_fragment"), r["bytes_sent_per_tet"].get<double>(),
+                         r["published_bytes_sent_per_tet"].get<double>(),
+                         (unsigned long long)r["ordering_errors"].get<uint64_t>(),
+                         (unsigned long long)r["cycle_breaks"].get<uint64_t>());
                  }});
 
     r.push_back({"raycast", Inputs::grid, {"emu", "gl"}, [](const AlgoOptions& a) { raycast_options(a); },

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "bench/algo_options.h"
 #include "bench/scene.h"
 #include "gpu/havs/havs.h"
 #include "gpu/raycast/raycast.h"
@@ -19,47 +19,7 @@
 
 namespace uvr::cli {
 
-struct AlgoOptions {
-    std::string backend = "emu";
-    std::string gl = "osmesa";  // --backend gl: osmesa | egl
-    bool require_diagnostics = false;  // render --diagnostics: refuse a configuration that cannot produce them
-    bool diagnostics = true;   // per-pixel diagnostics where the backend can give them (bench times without)
-    int k = 6;  // or gpu::kEveryFragment (--k all)
-    std::string ties = "arrival";  // HAVS with --k all: arrival | facing (the order at one distance)
-    std::string segment = "table";
-    std::string gaps = "exact";
-    std::string order = "mpvonc";  // VICP's cell order
-    std::string coverage = "gpu";  // HAVS and VICP: gpu (the rasterizer's) | exact (emulation only)
-    // gpu (the rasterizer's interpolated varyings: the seed's pipeline) | exact (double from the pixel's ray). Empty:
-    // the algorithm's default (gpu for HAVS, VICP and the ray caster: the seeds' pipelines, SPEC §7).
-    std::string interpolation;
-    // HAVS: marked (uvr's entries: exit, entry and extrapolated fragments told apart) | seed (the program as printed:
-    // the scalar itself, exit faces negative). Empty: the backend's default (seed with --backend arb, else marked).
-    std::string entries;
-    // --backend arb: triangles per draw call (0: the driver's 131,072) and a glTextureBarrier after each draw (what
-    // conformant GL would need; docs/havs-arb.md, "Reading the targets").
-    std::size_t arb_draw = 0;
-    bool arb_barrier = false;
-    // HAVS on GL and ARB: which triangles the CPU sends, covered (those that cover a pixel; the same image) | all
-    // (every face, as the seed sends them). docs/gl-backend.md, "Triangles that cover no pixel".
-    std::string send = "covered";
-    double threshold = -1.0;  // per algorithm default (SPEC §3): HAVS 0.99
-    int table_size = 128;
-    std::string table_format = "f32";
-    bool no_cache = false;
-    // The ray caster (regular grids).
-    double step = -1.0;            // world units; unset (< 0): half the smallest spacing
-    bool preintegrate = false;
-    std::string light;             // "X,Y,Z": shading with a point light there
-    std::string volume_format = "native";
-};
-
-// --backend, --gl, --k (unless with_k is false: sweep takes a list), --segment, --gaps, --threshold, --table-size,
-// --table-format, --no-cache.
-void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_k = true);
-// --k's value: a whole number >= 1, or "all" (gpu::kEveryFragment); and k as JSON (a number, or "all").
-int parse_k(const std::string& v);
-nlohmann::json k_json(int k);
+// The options of each algorithm, from an AlgoOptions the table accepted.
 gpu::HavsOptions havs_options(const AlgoOptions& o);
 gpu::VicpOptions vicp_options(const AlgoOptions& o);
 gpu::RaycastOptions raycast_options(const AlgoOptions& o);
@@ -71,8 +31,8 @@ struct AlgoResult {
     bool cached = false;  // reference taken from the cache
     // Options in effect, counters, "stages_ms" (stage name -> milliseconds of this frame) and, on GL, "gl".
     nlohmann::json stats;
-    // Diagnostics, SPEC row order: HAVS all three, VICP fragments and ordering errors (and, with the seed's
-    // interpolation emulated, its wrong exits), the ray caster's samples.
+    // Diagnostics, the image's row order (row 0 on top): HAVS all three, VICP fragments and ordering errors (and, with
+    // the paper's interpolation emulated, its wrong exits), the ray caster's samples.
     std::vector<uint32_t> fragments, max_held, ordering_errors, samples, wrong_exits;
 };
 

@@ -1,4 +1,4 @@
-// `uvr budget`'s parts (SPEC §7): the baseline's options, the factors, and the whole run; the command is
+// `uvr budget`'s parts (docs/spec.md §7): the baseline's options, the factors, and the whole run; the command is
 // bench/cmd_budget.cpp, the page bench/report.cpp (write_budget_page). docs/budget.md.
 #pragma once
 
@@ -23,8 +23,8 @@ inline constexpr double kBudgetStepBaselineShare = 0.25;
 // (tests/test_exact_coverage.cpp, docs/havs.md "Convergence on many views"), whose bar this is.
 inline constexpr double kBudgetBaselineMax = 2e-6;
 
-// One cause of error: its name (SPEC §7's key), what it is (a sentence for the page), and how its run differs from
-// the baseline: `apply` sets the one switch of `run` (the baseline's options) to the user's value.
+// One cause of error: its name (docs/spec.md §7's key), what it is (a sentence for the page), and how its run differs
+// from the baseline: `apply` sets the one switch of `run` (the baseline's options) to the user's value.
 struct BudgetFactor {
     std::string name, what;
     std::function<void(AlgoOptions& run, const AlgoOptions& user)> apply;

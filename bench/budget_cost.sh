@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# What one `uvr budget` costs against the default frame of the same algorithm (issue 26's performance question: a
+# What one `uvr budget` costs against the default frame of the same algorithm (the performance question: a
 # full budget should cost no more than 1 + (number of factors) renders). Per round, alternating: `uvr budget` and
 # `uvr render` of the default configuration, each timed as a whole process (both load the scene; the reference comes
 # from the cache, filled before the first round); the ratio is taken within a round and its median reported.
@@ -8,7 +8,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 uvr="$here/build/bench/uvr"
-data="$here/../shared/data/vtk-data"
+data="$here/data/vtk-data"
 rounds=${ROUNDS:-5}
 size=${SIZE:-512x512}
 dir=$(mktemp -d)

@@ -64,8 +64,8 @@ void write_budget_page(const std::string& dir, const nlohmann::json& b, bool cha
         h += "<p><img src=\"budget.png\" alt=\"the budget as a chart\"></p>\n";
     else
         h += "<p>(Chart not drawn: python3-matplotlib is missing.)</p>\n";
-    h += "<h2>Error maps</h2>\n<p>Each run's largest channel error per pixel (" + heat_legend_html() +
-         "), beside its image.</p>\n";
+    h += "<h2>Error maps</h2>\n<p>Each run's largest channel error per pixel, beside its image:</p>\n" +
+         heat_legend_html() + "\n";
     h += figure("total", b["total"]);
     for (const auto& n : b["factor_order"]) h += figure(n.get<std::string>(), b["factors"][n.get<std::string>()]);
     h += figure("baseline", b["baseline"]);

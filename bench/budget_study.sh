@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
-# The error-budget study of docs/budget.md (issue 26): `uvr budget` for HAVS (k = 2, 6, 16), VICP (MPVONC and the
-# centroid order) and the ray caster (two steps) on the shared data, then the interpolation factor against the image
+# The error-budget study of docs/budget.md: `uvr budget` for HAVS (k = 2, 6, 16), VICP (MPVONC and the
+# centroid order) and the ray caster (two steps) on the data sets of data/, then the interpolation factor against the image
 # size, then one table of every number (OUT/study.md). Finished budgets are kept and not redone.
 #   bash bench/budget_study.sh                       # every view (VIEWS), SIZE 512x512, SIZES "512 1024 2048 4096"
-#   VIEWS="0,0" SIZES="512 1024 2048" bash bench/budget_study.sh     # the subset a session can afford
+#   VIEWS="0,0" SIZES="512 1024 2048" bash bench/budget_study.sh     # a smaller subset
 # Environment: OUT (default budget-study), SIZE, VIEWS (azimuth,elevation list), SIZES (square image sides).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 uvr="$here/build/bench/uvr"
-data="$here/../shared/data/vtk-data"
+data="$here/data/vtk-data"
 out=${OUT:-budget-study}
 size=${SIZE:-512x512}
 views=${VIEWS:-"0,0 120,30 240,-30"}
@@ -35,7 +35,7 @@ done
 for vol in neghip.slc hydrogen.vti; do
   for step in 0.5 1; do run "raycast-step$step-${vol%.*}" "$data/$vol" --size "$size" --algo raycast --step "$step"; done
 done
-# The interpolation factor against the image size: the baseline with the seed's interpolation (HAVS) or the seed's
+# The interpolation factor against the image size: the baseline with the paper's interpolation (HAVS) or the paper's
 # interpolation and the rasterizer's coverage (VICP: its varyings exist only on the rasterizer's fragments), against
 # the reference, on Blunt Fin from the first view.
 v=${views%% *}

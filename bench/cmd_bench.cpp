@@ -1,5 +1,5 @@
-// `uvr bench MESH [--algos LIST]`: timings of each algorithm, each stage apart (SPEC §3). Medians over repetitions
-// after a warm-up; the JSON carries every repetition's figures and a description of the machine.
+// `uvr bench MESH [--algos LIST]`: timings of each algorithm, each stage apart (docs/spec.md §3). Medians over
+// repetitions after a warm-up; the JSON carries every repetition's figures and a description of the machine.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -15,11 +15,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/options.h"
 #include "bench/commands.h"
 #include "bench/scene.h"
 #include "bench/algorithms.h"
 #include "gpu/gl/gl_context.h"
 #include "reference/error.h"
+#include "reference/timing.h"
 
 namespace uvr::cli {
 
@@ -30,15 +32,9 @@ struct BenchArgs {
     std::string algos = "reference";
     int repeat = 5;
     int warmup = 1;
-    int k = 6;
     std::string backends = "emu";
     std::string orders = "mpvonc,centroid";
-    std::string gl = "osmesa";
-    std::string interpolation;  // HAVS, VICP, ray caster: gpu (default) | exact
-    std::string entries;        // HAVS: marked | seed (empty: the backend's default)
-    std::size_t arb_draw = 0;   // --backend arb: triangles per draw
-    bool arb_barrier = false;   // --backend arb: a texture barrier after each draw
-    std::string send = "covered";  // HAVS on gl and arb, VICP on gl: covered | all (AlgoOptions::send)
+    AlgoOptions algo;  // the table's rows bench takes (kBenchOptions)
     bool json = false;
 };
 
@@ -64,9 +60,6 @@ double peak_rss_mib()
     getrusage(RUSAGE_SELF, &ru);
     return double(ru.ru_maxrss) / 1024.0;  // kilobytes on Linux
 }
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 // Times one configuration of one algorithm: builds its renderer (build_ms), renders warmup + repeat frames, and keeps
 // each timed frame's wall time and stage times. The row holds the last frame's statistics, the medians of its stages
@@ -110,21 +103,15 @@ void register_bench(CLI::App& app)
     add_scene_options(*cmd, a->scene);
     cmd->add_option("--algos,--algo", a->algos, "Comma-separated algorithms (reference, havs, vicp, raycast)")->capture_default_str();
     cmd->add_option("--repeat", a->repeat, "Timed repetitions")->capture_default_str()->check(CLI::Range(1, 1000));
-    cmd->add_option("--warmup", a->warmup, "Untimed repetitions first")->capture_default_str()->check(CLI::Range(0, 100));
-    cmd->add_option("--k", a->k, "HAVS: k-buffer entries")->capture_default_str();
-    cmd->add_option("--backend,--backends", a->backends, "Comma-separated backends of the GPU algorithms (emu, gl; arb: HAVS only)")
+    cmd->add_option("--warmup", a->warmup, "Untimed repetitions first")
+        ->capture_default_str()
+        ->check(CLI::Range(0, 100));
+    cmd->add_option("--backend,--backends", a->backends,
+                    "Comma-separated backends of the GPU algorithms (emu, gl; arb: HAVS only)")
         ->capture_default_str();
-    cmd->add_option("--gl", a->gl, "With the gl backend: osmesa | egl")->capture_default_str();
     cmd->add_option("--orders,--order", a->orders, "VICP: comma-separated cell orders (mpvonc, centroid)")
         ->capture_default_str();
-    cmd->add_option("--interpolation", a->interpolation,
-                    "HAVS, VICP, ray caster: gpu (the seed's interpolated varyings; default) | exact (in double from the pixel's ray)");
-    cmd->add_option("--entries", a->entries, "HAVS: marked | seed (default: seed with arb, else marked)");
-    cmd->add_option("--arb-draw", a->arb_draw, "With the arb backend: triangles per draw call (0: 131072)");
-    cmd->add_flag("--arb-barrier", a->arb_barrier, "With the arb backend: a texture barrier after every draw call");
-    cmd->add_option("--send", a->send,
-                    "HAVS on the gl and arb backends, VICP on gl: covered (the triangles that make fragments) | all (every face)")
-        ->capture_default_str();
+    add_algo_options(*cmd, a->algo, true, {"k", "gl", "interpolation", "entries", "arb-draw", "arb-barrier", "send"});
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
     cmd->callback([a] {
         const std::vector<std::string> algos = split_list(a->algos), backends = split_list(a->backends);
@@ -132,7 +119,7 @@ void register_bench(CLI::App& app)
         for (const auto& b : backends)
             if (b != "emu" && b != "gl" && b != "arb")
                 throw InputError("", "--backend must list emu, gl and/or arb, not '" + b + "'");
-        gpu::parse_gl_platform(a->gl);
+        gpu::parse_gl_platform(a->algo.gl);
         const std::vector<std::string> orders = split_list(a->orders);
         for (const auto& o : orders) gpu::parse_cell_order(o);
         const auto t0 = Clock::now();
@@ -157,12 +144,12 @@ void register_bench(CLI::App& app)
         // fragment (5 % of a Blunt Fin frame), in the emulation no bookkeeping per fragment; the image is the same
         // (tests/test_havs.cpp), and the counts are `render --diagnostics`'s.
         AlgoOptions base;
-        base.k = a->k;
-        base.gl = a->gl;
+        base.k = a->algo.k;
+        base.gl = a->algo.gl;
         base.no_cache = true;
         base.diagnostics = false;
-        if (!a->interpolation.empty() && a->interpolation != "gpu" && a->interpolation != "exact")
-            throw InputError("", "--interpolation must be gpu or exact");
+        if (a->algo.interpolation.find(',') != std::string::npos)
+            throw InputError("", "--interpolation takes one of gpu or exact here, not a list");
         for (const auto& x : algos) {
             const Algorithm& algo = find_algorithm(x);
             const std::vector<std::string> algo_backends = algo.backends.size() == 1 ? algo.backends : backends;
@@ -170,14 +157,14 @@ void register_bench(CLI::App& app)
                 if (std::find(algo.backends.begin(), algo.backends.end(), b) == algo.backends.end()) continue;
                 AlgoOptions o = base;
                 o.backend = b;
-                if (x == "raycast" || x == "vicp") o.interpolation = a->interpolation;
-                if (x == "vicp") o.send = a->send;
+                if (x == "raycast" || x == "vicp") o.interpolation = a->algo.interpolation;
+                if (x == "vicp") o.send = a->algo.send;
                 if (x == "havs") {
-                    o.interpolation = a->interpolation;
-                    o.entries = a->entries;
-                    o.arb_draw = a->arb_draw;
-                    o.arb_barrier = a->arb_barrier;
-                    o.send = a->send;
+                    o.interpolation = a->algo.interpolation;
+                    o.entries = a->algo.entries;
+                    o.arb_draw = a->algo.arb_draw;
+                    o.arb_barrier = a->algo.arb_barrier;
+                    o.send = a->algo.send;
                 }
                 for (const AlgoOptions& v : algo.bench_variants(o, orders)) out["results"].push_back(time_frames(s, *a, algo, v));
             }

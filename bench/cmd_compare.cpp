@@ -1,6 +1,6 @@
 // `uvr compare MESH --algos LIST [--image FILE --label NAME ...] --report DIR`: every algorithm on one scene, and any
-// image made elsewhere of the same scene, each measured against the reference (SPEC §4): images, error heat maps,
-// metrics.json and an HTML page.
+// image made elsewhere of the same scene, each measured against the reference (docs/spec.md §4): images, error heat
+// maps, metrics.json and an HTML page.
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/options.h"
 #include "bench/algorithms.h"
 #include "bench/commands.h"
 #include "bench/report.h"

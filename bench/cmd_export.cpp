@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/options.h"
 #include "bench/commands.h"
 #include "bench/scene.h"
 #include "gpu/raycast/raycast_setup.h"

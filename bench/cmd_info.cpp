@@ -1,8 +1,9 @@
-// `uvr info MESH [--json]`: what a data set holds (SPEC §3).
+// `uvr info MESH [--json]`: what a data set holds (docs/spec.md §3).
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
 
+#include "bench/options.h"
 #include "bench/commands.h"
 #include "reference/field.h"
 #include "reference/topology.h"

@@ -1,10 +1,11 @@
-// `uvr render MESH --algo ... --out FILE`: one image from one algorithm (SPEC §3).
+// `uvr render MESH --algo ... --out FILE`: one image from one algorithm (docs/spec.md §3).
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 
 #include <nlohmann/json.hpp>
 
+#include "bench/options.h"
 #include "bench/algorithms.h"
 #include "bench/commands.h"
 #include "reference/error.h"

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/options.h"
 #include "bench/algorithms.h"
 #include "bench/budget.h"
 #include "bench/commands.h"
@@ -83,6 +84,250 @@ bool load_json(const std::string& path, nlohmann::json& j)
     }
 }
 
+// A regular grid sweeps the ray caster's step (bench/sweep_step.cpp); prints its rows unless --json.
+void sweep_volume(const SweepArgs& a, Scene& s, const std::vector<double>& steps, bool k_given)
+{
+    if (k_given)
+        throw InputError(s.volume().source,
+                         "is a regular grid: --k sweeps HAVS, which takes a tetrahedral mesh (--step "
+                         "sweeps the ray caster)");
+    raycast_options(a.algo_options);  // reject bad options before any work
+    const nlohmann::json out = run_step_sweep(s, a.algo_options, steps, a.views, a.report, a.budget);
+    if (a.json) {
+        std::printf("%s\n", out.dump(1).c_str());
+        return;
+    }
+    for (const auto& r : out["rows"])
+        std::printf("view %d, %s, step %g: RMSE %.3g, max %.3g, visible %.4f\n", r["view"].get<int>(),
+                    r["classification"].get<std::string>().c_str(), r["step"].get<double>(), r["rmse"].get<double>(),
+                    r["max_abs"].get<double>(), r["visible_fraction"].get<double>());
+    std::printf("report: %s/index.html\n", a.report.c_str());
+}
+
+// The k list, checked with every other option before any work: on GL, a k its draw buffers cannot hold is refused
+// now, not after the smaller ones have run.
+std::vector<int> checked_k_list(const SweepArgs& a)
+{
+    const std::vector<int> ks = parse_int_list("--k", a.ks, 1, std::numeric_limits<int>::max());
+    if (ks.empty()) throw InputError("", "--k is empty");
+    havs_options(a.algo_options);
+    if (a.algo_options.backend == "gl") {
+        const gpu::GlContext ctx(gpu::parse_gl_platform(a.algo_options.gl));
+        const int kmax = gpu::GlHavsRenderer::max_k(ctx.info(), false);
+        if (ks.back() > kmax)
+            throw InputError("", "--k must be between 1 and " + std::to_string(kmax) + " with --backend gl on " +
+                                     ctx.info().renderer + " (" + std::to_string(ctx.info().max_draw_buffers) +
+                                     " draw buffers); the list has " + std::to_string(ks.back()));
+    }
+    return ks;
+}
+
+// One sweep over a mesh: its runs are files under DIR/runs/ (a run already there is taken from disk), its numbers
+// the JSON `out`.
+class KSweep {
+public:
+    KSweep(const SweepArgs& a, Scene& s, std::vector<int> ks, std::vector<int> table_sizes)
+        : a_(a),
+          s_(s),
+          ks_(std::move(ks)),
+          table_sizes_(std::move(table_sizes)),
+          runs_(a.report + "/runs"),
+          bar_("sweep")
+    {
+    }
+
+    nlohmann::json run()
+    {
+        std::error_code ec;
+        std::filesystem::create_directories(runs_, ec);
+        if (ec) throw InputError(a_.report, "cannot create the report directory: " + ec.message());
+        const auto views = sweep_views(a_.views);
+        out_ = {{"mesh", a_.scene.input.path},
+                {"field", s_.field_name()},
+                {"width", s_.width},
+                {"height", s_.height},
+                {"k", ks_},
+                {"table_sizes", table_sizes_},
+                {"backend", a_.algo_options.backend}};
+        for (const char* list : {"rows", "table_rows", "views", "budget_rows"}) out_[list] = nlohmann::json::array();
+        total_ = views.size() * (ks_.size() * 2 + table_sizes_.size());
+        const Camera scene_camera = s_.camera;
+        double floor_sum = 0.0;
+        for (const View& v : views) {
+            s_.camera = v.index == 0 ? scene_camera
+                                     : default_camera(mesh_bounds(s_.mesh()), double(s_.width) / s_.height, v.azimuth,
+                                                      v.elevation);
+            floor_sum += sweep_view(v);
+        }
+        bar_.finish();
+        out_["table_floor_rmse"] = floor_sum / double(views.size());
+        out_["resumed_runs"] = resumed_;
+        return out_;
+    }
+
+private:
+    const SweepArgs& a_;
+    Scene& s_;
+    const std::vector<int> ks_, table_sizes_;
+    const std::string runs_;
+    ProgressBar bar_;
+    nlohmann::json out_;
+    std::size_t total_ = 0, done_ = 0, resumed_ = 0;
+
+    void step() { bar_.update(double(++done_) / double(total_)); }
+
+    // One HAVS run: its row from disk when both files are there, else rendered, measured and stored.
+    nlohmann::json havs_run(const std::string& tag, const AlgoOptions& o, const Image& against, nlohmann::json row)
+    {
+        nlohmann::json stored;
+        const std::string base = runs_ + "/" + tag;
+        std::error_code ec;
+        if (load_json(base + ".json", stored) && std::filesystem::exists(base + ".npy", ec)) {
+            ++resumed_;
+            return stored;
+        }
+        const AlgoResult r = run_algorithm(s_, "havs", o);
+        const ErrorMeasures e = measure_errors(r.image, against);
+        row["backend"] = o.backend;
+        row["rmse"] = e.rmse;
+        row["max_abs"] = e.max_abs;
+        row["psnr"] = std::isfinite(e.psnr) ? nlohmann::json(e.psnr) : nlohmann::json(nullptr);
+        row["visible_fraction"] = e.visible_fraction;
+        if (!r.ordering_errors.empty()) {
+            std::size_t err_pixels = 0;
+            for (uint32_t c : r.ordering_errors) err_pixels += c ? 1 : 0;
+            row["ordering_errors"] = r.stats["ordering_errors"];
+            row["ordering_error_pixel_fraction"] = double(err_pixels) / double(r.ordering_errors.size());
+            row["max_fragments_per_pixel"] = r.stats["max_fragments_per_pixel"];
+        }
+        row["ms"] = r.ms;
+        write_npy(base + ".npy", r.image);
+        write_file_atomically(base + ".json", row.dump() + "\n");
+        return row;
+    }
+
+    // Every k with exact segments (the sort's error; the emulation's alone) and with the table (--backend); returns
+    // the view's JSON with the smallest k without visible error in each mode.
+    nlohmann::json k_runs(const View& v, const Image& ref)
+    {
+        nlohmann::json vj = {{"view", v.index}, {"azimuth", v.azimuth}, {"elevation", v.elevation}};
+        const std::string vtag = "v" + std::to_string(v.index);
+        for (const std::string mode : {"exact", "table"}) {
+            int smallest = -1;
+            for (int k : ks_) {
+                AlgoOptions o = a_.algo_options;
+                o.k = k;
+                o.segment = mode;
+                if (mode == "exact") o.backend = "emu";
+                const nlohmann::json row = havs_run(vtag + "-k" + std::to_string(k) + "-" + mode, o, ref,
+                                                    {{"view", v.index}, {"k", k}, {"mode", mode}});
+                if (smallest < 0 && row["visible_fraction"].get<double>() == 0.0) smallest = k;
+                out_["rows"].push_back(row);
+                step();
+            }
+            vj["smallest_k_without_visible_error_" + mode] =
+                smallest < 0 ? nlohmann::json(nullptr) : nlohmann::json(smallest);
+        }
+        return vj;
+    }
+
+    // One view: the reference, the k runs, the table sizes against exact at the largest k, the budget per k. Returns
+    // the table's error floor (table against exact at the largest k).
+    double sweep_view(const View& v)
+    {
+        const Image ref = run_algorithm(s_, "reference", a_.algo_options).image;
+        write_npy(runs_ + "/v" + std::to_string(v.index) + "-reference.npy", ref);
+        nlohmann::json vj = k_runs(v, ref);
+        const std::string last = "v" + std::to_string(v.index) + "-k" + std::to_string(ks_.back());
+        const Image top[2] = {read_npy(runs_ + "/" + last + "-exact.npy"), read_npy(runs_ + "/" + last + "-table.npy")};
+        for (int n : table_sizes_) {
+            AlgoOptions o = a_.algo_options;
+            o.k = ks_.back();
+            o.table_size = n;
+            out_["table_rows"].push_back(havs_run(last + "-table" + std::to_string(n), o, top[0],
+                                                  {{"view", v.index}, {"k", ks_.back()}, {"table_size", n}}));
+            step();
+        }
+        const ErrorMeasures floor = measure_errors(top[1], top[0]);
+        vj["table_floor_rmse"] = floor.rmse;
+        vj["table_floor_max_abs"] = floor.max_abs;
+        out_["views"].push_back(vj);
+        if (a_.budget) budget_per_k(v);
+        return floor.rmse;
+    }
+
+    // The budget at every k: the baseline and the factors that do not depend on k are rendered once a view (the
+    // cache), the sort factor and the total once a k.
+    void budget_per_k(const View& v)
+    {
+        BudgetRunCache cache;
+        for (int k : ks_) {
+            AlgoOptions o = a_.algo_options;
+            o.k = k;
+            const std::string page = "budget/v" + std::to_string(v.index) + "-k" + std::to_string(k);
+            nlohmann::json row =
+                budget_summary(run_budget(s_, "havs", o, a_.report + "/" + page, a_.scene.input.path, &cache, true),
+                               page + "/index.html");
+            row["view"] = v.index;
+            row["k"] = k;
+            out_["budget_rows"].push_back(row);
+        }
+    }
+};
+
+// sweep.csv: one line per run; a table-size run has mode "table-vs-exact" and its table size, and measures against
+// the exact image at the largest k instead of the reference. Missing counts (a GL run without diagnostics) are empty.
+void write_sweep_csv(const std::string& dir, const nlohmann::json& out)
+{
+    std::string csv =
+        "view,k,mode,table_size,backend,rmse,max_abs,psnr,visible_fraction,ordering_errors,"
+        "ordering_error_pixel_fraction,max_fragments_per_pixel,ms\n";
+    auto field = [](const nlohmann::json& r, const char* key) {
+        if (!r.contains(key) || r[key].is_null()) return std::string(r.contains(key) ? "inf" : "");
+        char buf[64];
+        if (r[key].is_number_unsigned() || r[key].is_number_integer())
+            std::snprintf(buf, sizeof buf, "%lld", r[key].get<long long>());
+        else
+            std::snprintf(buf, sizeof buf, "%.9g", r[key].get<double>());
+        return std::string(buf);
+    };
+    auto line = [&](const nlohmann::json& r, const std::string& mode, const std::string& table_size) {
+        csv += field(r, "view") + "," + field(r, "k") + "," + mode + "," + table_size + "," +
+               r["backend"].get<std::string>() + "," + field(r, "rmse") + "," + field(r, "max_abs") + "," +
+               field(r, "psnr") + "," + field(r, "visible_fraction") + "," + field(r, "ordering_errors") + "," +
+               field(r, "ordering_error_pixel_fraction") + "," + field(r, "max_fragments_per_pixel") + "," +
+               field(r, "ms") + "\n";
+    };
+    for (const auto& r : out["rows"]) line(r, r["mode"].get<std::string>(), "");
+    for (const auto& r : out["table_rows"]) line(r, "table-vs-exact", field(r, "table_size"));
+    write_file_atomically(dir + "/sweep.csv", csv);
+}
+
+// The files of a finished sweep (JSON, CSV, plots, page) and its summary on stdout (or the JSON with --json).
+void finish_sweep(const SweepArgs& a, const nlohmann::json& out)
+{
+    const std::string& dir = a.report;
+    write_file_atomically(dir + "/sweep.json", out.dump(1) + "\n");
+    write_sweep_csv(dir, out);
+    // Plots by matplotlib (Debian's python3-matplotlib); without it the numbers still stand.
+    const std::string plot =
+        std::string("/usr/bin/python3 '") + UVR_SOURCE_DIR + "/bench/plots/sweep_plots.py' '" + dir + "' 2>&1";
+    const bool plotted = std::system(plot.c_str()) == 0;
+    if (!plotted) std::fprintf(stderr, "uvr: warning: plots not drawn (needs python3-matplotlib)\n");
+    write_sweep_page(dir, out, plotted);
+    if (a.json) {
+        std::printf("%s\n", out.dump(1).c_str());
+        return;
+    }
+    for (const auto& v : out["views"])
+        std::printf("view %d (%g, %g): smallest k without visible error: sorting %s, total %s; table error RMSE %.3g\n",
+                    v["view"].get<int>(), v["azimuth"].get<double>(), v["elevation"].get<double>(),
+                    v["smallest_k_without_visible_error_exact"].dump().c_str(),
+                    v["smallest_k_without_visible_error_table"].dump().c_str(), v["table_floor_rmse"].get<double>());
+    std::printf("report: %s/index.html (%zu runs resumed from disk)\n", dir.c_str(),
+                out["resumed_runs"].get<std::size_t>());
+}
+
 }  // namespace
 
 void register_sweep(CLI::App& app)
@@ -107,199 +352,14 @@ void register_sweep(CLI::App& app)
     cmd->callback([a, k_option] {
         const std::vector<double> steps = parse_step_list(a->steps);
         Scene s = setup_scene(a->scene);
-        {
-            // A regular grid sweeps the ray caster's step; --step is refused for a mesh.
-            if (s.is_volume()) {
-                if (k_option->count())
-                    throw InputError(s.volume().source, "is a regular grid: --k sweeps HAVS, which takes a tetrahedral "
-                                                        "mesh (--step sweeps the ray caster)");
-                raycast_options(a->algo_options);  // reject bad options before any work
-                const nlohmann::json out = run_step_sweep(s, a->algo_options, steps, a->views, a->report, a->budget);
-                if (a->json) {
-                    std::printf("%s\n", out.dump(1).c_str());
-                    return;
-                }
-                for (const auto& r : out["rows"])
-                    std::printf("view %d, %s, step %g: RMSE %.3g, max %.3g, visible %.4f\n", r["view"].get<int>(),
-                                r["classification"].get<std::string>().c_str(), r["step"].get<double>(),
-                                r["rmse"].get<double>(), r["max_abs"].get<double>(),
-                                r["visible_fraction"].get<double>());
-                std::printf("report: %s/index.html\n", a->report.c_str());
-                return;
-            }
-            if (!a->steps.empty())
-                throw InputError(a->scene.input.path, "is a tetrahedral mesh: --step sweeps the ray caster, which "
-                                                      "renders regular grids (use --k for HAVS)");
-        }
-        const std::vector<int> ks = parse_int_list("--k", a->ks, 1, std::numeric_limits<int>::max());
-        if (ks.empty()) throw InputError("", "--k is empty");
-        const std::vector<int> table_sizes = parse_int_list("--table-sizes", a->table_sizes, 2, 1024);
-        havs_options(a->algo_options);  // reject bad options before any work
-        if (a->algo_options.backend == "gl") {
-            // The table runs of every k go to GL: a k its draw buffers cannot hold is refused now, not after the
-            // smaller ones have run.
-            const gpu::GlContext ctx(gpu::parse_gl_platform(a->algo_options.gl));
-            const int kmax = gpu::GlHavsRenderer::max_k(ctx.info(), false);
-            if (*std::max_element(ks.begin(), ks.end()) > kmax)
-                throw InputError("", "--k must be between 1 and " + std::to_string(kmax) + " with --backend gl on " +
-                                         ctx.info().renderer + " (" + std::to_string(ctx.info().max_draw_buffers) +
-                                         " draw buffers); the list has " +
-                                         std::to_string(*std::max_element(ks.begin(), ks.end())));
-        }
-
-        const std::string dir = a->report, runs = dir + "/runs";
-        std::error_code ec;
-        std::filesystem::create_directories(runs, ec);
-        if (ec) throw InputError(dir, "cannot create the report directory: " + ec.message());
-
-        const Camera scene_camera = s.camera;
-        const auto views = sweep_views(a->views);
-        nlohmann::json out;
-        out["mesh"] = a->scene.input.path;
-        out["field"] = s.field_name();
-        out["width"] = s.width;
-        out["height"] = s.height;
-        out["k"] = ks;
-        out["table_sizes"] = table_sizes;
-        out["backend"] = a->algo_options.backend;
-        out["rows"] = nlohmann::json::array();
-        out["table_rows"] = nlohmann::json::array();
-        out["views"] = nlohmann::json::array();
-        out["budget_rows"] = nlohmann::json::array();
-        ProgressBar bar("sweep");
-        const std::size_t total = views.size() * (ks.size() * 2 + table_sizes.size());
-        std::size_t done = 0, resumed = 0;
-        double floor_sum = 0.0;
-        for (const View& v : views) {
-            s.camera = v.index == 0 ? scene_camera
-                                    : default_camera(mesh_bounds(s.mesh()), double(s.width) / s.height, v.azimuth,
-                                                     v.elevation);
-            const Image ref = run_algorithm(s, "reference", a->algo_options).image;
-            write_npy(runs + "/v" + std::to_string(v.index) + "-reference.npy", ref);
-            nlohmann::json vj = {{"view", v.index}, {"azimuth", v.azimuth}, {"elevation", v.elevation}};
-            // One HAVS run: its row from disk when both files are there, else rendered, measured and stored.
-            auto run = [&](const std::string& tag, const AlgoOptions& o, const Image& against, nlohmann::json row) {
-                nlohmann::json stored;
-                const std::string base = runs + "/" + tag;
-                if (load_json(base + ".json", stored) && std::filesystem::exists(base + ".npy", ec)) {
-                    ++resumed;
-                    return stored;
-                }
-                const AlgoResult r = run_algorithm(s, "havs", o);
-                const ErrorMeasures e = measure_errors(r.image, against);
-                row["backend"] = o.backend;
-                row["rmse"] = e.rmse;
-                row["max_abs"] = e.max_abs;
-                row["psnr"] = std::isfinite(e.psnr) ? nlohmann::json(e.psnr) : nlohmann::json(nullptr);
-                row["visible_fraction"] = e.visible_fraction;
-                if (!r.ordering_errors.empty()) {
-                    std::size_t err_pixels = 0;
-                    for (uint32_t c : r.ordering_errors) err_pixels += c ? 1 : 0;
-                    row["ordering_errors"] = r.stats["ordering_errors"];
-                    row["ordering_error_pixel_fraction"] = double(err_pixels) / double(r.ordering_errors.size());
-                    row["max_fragments_per_pixel"] = r.stats["max_fragments_per_pixel"];
-                }
-                row["ms"] = r.ms;
-                write_npy(base + ".npy", r.image);
-                write_file_atomically(base + ".json", row.dump() + "\n");
-                return row;
-            };
-            const std::string vtag = "v" + std::to_string(v.index);
-            for (int mode = 0; mode < 2; ++mode) {
-                const std::string mname = mode == 0 ? "exact" : "table";
-                int smallest = -1;
-                for (int k : ks) {
-                    AlgoOptions o = a->algo_options;
-                    o.k = k;
-                    o.segment = mname;
-                    if (mode == 0) o.backend = "emu";  // the exact integral is the emulation's alone
-                    const nlohmann::json row = run(vtag + "-k" + std::to_string(k) + "-" + mname, o, ref,
-                                                   {{"view", v.index}, {"k", k}, {"mode", mname}});
-                    if (smallest < 0 && row["visible_fraction"].get<double>() == 0.0) smallest = k;
-                    out["rows"].push_back(row);
-                    bar.update(double(++done) / double(total));
-                }
-                vj[std::string("smallest_k_without_visible_error_") + mname] =
-                    smallest < 0 ? nlohmann::json(nullptr) : nlohmann::json(smallest);
-            }
-            const std::string last = vtag + "-k" + std::to_string(ks.back());
-            const Image top[2] = {read_npy(runs + "/" + last + "-exact.npy"), read_npy(runs + "/" + last + "-table.npy")};
-            // The table's error against its size: table against exact at the largest k.
-            for (int n : table_sizes) {
-                AlgoOptions o = a->algo_options;
-                o.k = ks.back();
-                o.table_size = n;
-                out["table_rows"].push_back(run(last + "-table" + std::to_string(n), o, top[0],
-                                                {{"view", v.index}, {"k", ks.back()}, {"table_size", n}}));
-                bar.update(double(++done) / double(total));
-            }
-            const ErrorMeasures floor = measure_errors(top[1], top[0]);
-            vj["table_floor_rmse"] = floor.rmse;
-            vj["table_floor_max_abs"] = floor.max_abs;
-            floor_sum += floor.rmse;
-            out["views"].push_back(vj);
-            // The budget at every k: the baseline and the factors that do not depend on k are rendered once a view
-            // (the cache), the sort factor and the total once a k.
-            if (a->budget) {
-                BudgetRunCache cache;
-                for (int k : ks) {
-                    AlgoOptions o = a->algo_options;
-                    o.k = k;
-                    const std::string page = "budget/" + vtag + "-k" + std::to_string(k);
-                    nlohmann::json row = budget_summary(
-                        run_budget(s, "havs", o, dir + "/" + page, a->scene.input.path, &cache, true),
-                        page + "/index.html");
-                    row["view"] = v.index;
-                    row["k"] = k;
-                    out["budget_rows"].push_back(row);
-                }
-            }
-        }
-        bar.finish();
-        out["table_floor_rmse"] = floor_sum / double(views.size());
-        out["resumed_runs"] = resumed;
-        write_file_atomically(dir + "/sweep.json", out.dump(1) + "\n");
-        // sweep.csv: one line per run; a table-size run has mode "table-vs-exact" and its table size, and measures
-        // against the exact image at the largest k instead of the reference. Missing counts (a GL run without
-        // diagnostics) are empty fields.
-        std::string csv = "view,k,mode,table_size,backend,rmse,max_abs,psnr,visible_fraction,ordering_errors,"
-                          "ordering_error_pixel_fraction,max_fragments_per_pixel,ms\n";
-        auto field = [](const nlohmann::json& r, const char* key) {
-            if (!r.contains(key) || r[key].is_null()) return std::string(r.contains(key) ? "inf" : "");
-            char buf[64];
-            if (r[key].is_number_unsigned() || r[key].is_number_integer())
-                std::snprintf(buf, sizeof buf, "%lld", r[key].get<long long>());
-            else
-                std::snprintf(buf, sizeof buf, "%.9g", r[key].get<double>());
-            return std::string(buf);
-        };
-        auto line = [&](const nlohmann::json& r, const std::string& mode, const std::string& table_size) {
-            csv += field(r, "view") + "," + field(r, "k") + "," + mode + "," + table_size + "," +
-                   r["backend"].get<std::string>() + "," + field(r, "rmse") + "," + field(r, "max_abs") + "," +
-                   field(r, "psnr") + "," + field(r, "visible_fraction") + "," + field(r, "ordering_errors") + "," +
-                   field(r, "ordering_error_pixel_fraction") + "," + field(r, "max_fragments_per_pixel") + "," +
-                   field(r, "ms") + "\n";
-        };
-        for (const auto& r : out["rows"]) line(r, r["mode"].get<std::string>(), "");
-        for (const auto& r : out["table_rows"]) line(r, "table-vs-exact", field(r, "table_size"));
-        write_file_atomically(dir + "/sweep.csv", csv);
-        // Plots by matplotlib (Debian's python3-matplotlib); without it the numbers still stand.
-        const std::string plot = std::string("/usr/bin/python3 '") + UVR_SOURCE_DIR + "/bench/plots/sweep_plots.py' '" +
-                                 dir + "' 2>&1";
-        const bool plotted = std::system(plot.c_str()) == 0;
-        if (!plotted) std::fprintf(stderr, "uvr: warning: plots not drawn (needs python3-matplotlib)\n");
-        write_sweep_page(dir, out, plotted);
-        if (a->json) {
-            std::printf("%s\n", out.dump(1).c_str());
-            return;
-        }
-        for (const auto& v : out["views"])
-            std::printf("view %d (%g, %g): smallest k without visible error: sorting %s, total %s; table error RMSE "
-                        "%.3g\n",
-                        v["view"].get<int>(), v["azimuth"].get<double>(), v["elevation"].get<double>(),
-                        v["smallest_k_without_visible_error_exact"].dump().c_str(),
-                        v["smallest_k_without_visible_error_table"].dump().c_str(), v["table_floor_rmse"].get<double>());
-        std::printf("report: %s/index.html (%zu runs resumed from disk)\n", dir.c_str(), resumed);
+        if (s.is_volume()) return sweep_volume(*a, s, steps, k_option->count() > 0);
+        if (!a->steps.empty())
+            throw InputError(a->scene.input.path,
+                             "is a tetrahedral mesh: --step sweeps the ray caster, which renders "
+                             "regular grids (use --k for HAVS)");
+        std::vector<int> ks = checked_k_list(*a);
+        std::vector<int> table_sizes = parse_int_list("--table-sizes", a->table_sizes, 2, 1024);
+        finish_sweep(*a, KSweep(*a, s, std::move(ks), std::move(table_sizes)).run());
     });
 }
 

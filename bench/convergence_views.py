@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
-"""Convergence on many views (issue 23): HAVS and VICP with every switch exact but coverage, and with exact coverage
+"""Convergence on many views: HAVS and VICP with every switch exact but coverage, and with exact coverage
 too, against the reference, on 24 views of each mesh at 192x192.
 
-    python3 bench/convergence_views.py [--uvr build/bench/uvr] [--data ../shared/data] [--out out/views] [--size 192]
+    python3 bench/convergence_views.py [--uvr build/bench/uvr] [--data data] [--out out/views] [--size 192]
                                        [--meshes bluntfin,oxygen-post,post,hexa,torus] [--views 24]
 
 Views: azimuth and elevation spread over the sphere (a Fibonacci lattice, fixed), every fourth one a close-up (the
 eye at 0.6 of the default distance, so that the view cuts the mesh at the image's sides). Each run's images stay in
-OUT/<mesh>/<view>/ (uvr compare's report), and OUT/views.csv holds, per mesh, view, algorithm and coverage, SPEC §4's
-largest error, the RMSE, the number of pixels over the bar (issue 4's 1e-4 with the rasterizer's coverage, SPEC §6's
+OUT/<mesh>/<view>/ (uvr compare's report), and OUT/views.csv holds, per mesh, view, algorithm and coverage, docs/spec.md §4's
+largest error, the RMSE, the number of pixels over the bar (the 1e-4 with the rasterizer's coverage, docs/spec.md §6's
 2e-6 with exact coverage) and the worst pixel. Needs python3-numpy (Debian).
 """
 import argparse
@@ -21,8 +21,8 @@ import sys
 
 import numpy as np
 
-BAR_GPU = 1e-4      # issue 4's convergence bar (tests/havs_convergence.h, kConvergenceMax)
-BAR_EXACT = 2e-6    # SPEC §6: every switch exact, float32 precision
+BAR_GPU = 1e-4      # the convergence bar (tests/havs_convergence.h, kConvergenceMax)
+BAR_EXACT = 2e-6    # docs/spec.md §6: every switch exact, float32 precision
 K = 255             # at least the largest fragment count on a pixel of these meshes at 192^2 (checked per run)
 
 # The input arguments of each mesh; "@" marks a path under the data directory.
@@ -51,7 +51,7 @@ def camera_json(info, az, el, factor):
     lo, hi = info["bounds"]["min"], info["bounds"]["max"]
     c = [(a + b) / 2 for a, b in zip(lo, hi)]
     r = 0.5 * math.sqrt(sum((b - a) ** 2 for a, b in zip(lo, hi)))
-    # SPEC §2's default camera looks from +z with the whole box in view (fovy 30): distance r / sin(15 deg).
+    # docs/spec.md §2's default camera looks from +z with the whole box in view (fovy 30): distance r / sin(15 deg).
     dist = factor * r / math.sin(math.radians(15.0))
     a, e = math.radians(az), math.radians(el)
     d = [math.cos(e) * math.sin(a), math.sin(e), math.cos(e) * math.cos(a)]
@@ -63,7 +63,7 @@ def camera_json(info, az, el, factor):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--uvr", default="build/bench/uvr")
-    ap.add_argument("--data", default=os.path.join(os.path.dirname(__file__), "..", "..", "shared", "data"))
+    ap.add_argument("--data", default=os.path.join(os.path.dirname(__file__), "..", "data"))
     ap.add_argument("--out", default="out/views")
     ap.add_argument("--size", type=int, default=192)
     ap.add_argument("--meshes", default=",".join(MESHES))

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""The seed's interpolation against uvr's exact one (issue 24): HAVS with --interpolation gpu and exact.
+"""The paper's interpolation against uvr's exact one: HAVS with --interpolation gpu and exact.
 
-    python3 bench/interpolation_study.py [--uvr build/bench/uvr] [--data ../shared/data] [--out out/interpolation]
+    python3 bench/interpolation_study.py [--uvr build/bench/uvr] [--data data] [--out out/interpolation]
                                          [--sizes 512,1024,2048,4096] [--parts views,sizes]
 
 Part 1, per mesh and view at 512^2, converged (exact segments, exact gaps, no early termination, k = 255, the
@@ -9,7 +9,7 @@ rasterizer's coverage): each mode against the reference, and the two modes again
 Part 2, the growth with image size (one view per mesh; the default table and k = 64, so that 4096^2 fits in memory):
 the two modes against each other. llvmpipe interpolates relative to the framebuffer's origin, so a triangle's plane
 is extrapolated over more pixels in a larger image.
-Measures as SPEC §4 (RMSE, largest channel error, visible fraction: largest channel error over 1/255). Writes
+Measures as docs/spec.md §4 (RMSE, largest channel error, visible fraction: largest channel error over 1/255). Writes
 OUT/interpolation.csv and prints it. Needs python3-numpy (Debian).
 """
 import argparse
@@ -39,7 +39,7 @@ def measures(a, b):
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--uvr", default="build/bench/uvr")
-    ap.add_argument("--data", default="../shared/data")
+    ap.add_argument("--data", default="data")
     ap.add_argument("--out", default="out/interpolation")
     ap.add_argument("--sizes", default="512,1024,2048,4096")
     ap.add_argument("--parts", default="views,sizes", help="which parts to run: views, sizes or both")

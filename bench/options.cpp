@@ -1,7 +1,7 @@
 #include "bench/options.h"
 
-#include <cstdio>
-#include <sstream>
+#include <algorithm>
+#include <cstdint>
 
 #include "reference/error.h"
 
@@ -20,31 +20,33 @@ void add_input_options(CLI::App& cmd, InputOptions& in)
         ->capture_default_str();
 }
 
-Dataset load_input(const InputOptions& in)
+void add_scene_options(CLI::App& cmd, SceneOptions& o)
 {
-    LoadOptions lo;
-    lo.q_file = in.q_file;
-    lo.raw_dtype = in.dtype;
-    lo.raw_big_endian = in.big_endian;
-    lo.time_step = in.time_step;
-    if (!in.dims.empty()) {
-        std::array<int64_t, 3> d{0, 0, 0};
-        char c1 = 0, c2 = 0, extra = 0;
-        long long x = 0, y = 0, z = 0;
-        if (std::sscanf(in.dims.c_str(), "%lld%c%lld%c%lld%c", &x, &c1, &y, &c2, &z, &extra) != 5 || c1 != ',' ||
-            c2 != ',' || x < 1 || y < 1 || z < 1)
-            throw InputError("", "--dims must be X,Y,Z with positive integers, found '" + in.dims + "'");
-        d = {x, y, z};
-        lo.raw_dims = d;
-    }
-    Dataset d = load_dataset(in.path, lo);
-    if (d.mesh && !in.field.empty()) find_field(*d.mesh, in.field);  // fail early on an unknown --field
-    return d;
+    add_input_options(cmd, o.input);
+    cmd.add_option("--tf", o.tf_path,
+                   "Transfer function JSON, or preset:NAME (viridis, inferno, plasma, cool-to-warm, grayscale, jet) "
+                   "on the default opacity (default: a ramp over the field's range; on a regular grid transparent "
+                   "around the most common value)");
+    cmd.add_option("--camera", o.camera_path, "Camera JSON (default: the whole mesh seen from +z)");
+    cmd.add_option("--view", o.view, "Orbit the default camera: AZIMUTH,ELEVATION in degrees");
+    cmd.add_option("--size", o.size, "Image size WxH")->capture_default_str();
 }
 
-void print_warnings(const Dataset& d)
+void add_algo_options(CLI::App& cmd, AlgoOptions& o, bool with_per_run, const std::vector<std::string>& only)
 {
-    for (const auto& w : d.warnings) std::fprintf(stderr, "uvr: warning: %s\n", w.c_str());
+    for (const AlgoOption& row : algo_option_table()) {
+        if (!with_per_run && row.per_run) continue;
+        if (!only.empty() && std::find(only.begin(), only.end(), row.name) == only.end()) continue;
+        const AlgoOption* r = &row;  // the table lives as long as the program
+        if (row.flag) {
+            cmd.add_flag_function(
+                "--" + row.name, [&o, r](std::int64_t n) { r->set(o, n > 0 ? "true" : "false"); }, row.help);
+        } else {
+            CLI::Option* opt = cmd.add_option_function<std::string>(
+                "--" + row.name, [&o, r](const std::string& v) { r->set(o, v); }, row.help);
+            if (!row.default_text.empty()) opt->default_str(row.default_text);
+        }
+    }
 }
 
 }  // namespace uvr::cli

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The cost of rendering through Python against the same render through the `uvr` program (issue 27's goal: no more).
+"""The cost of rendering through Python against the same render through the `uvr` program (the goal: no more).
 
     PYTHONPATH=build/python /usr/bin/python3 bench/python_vs_program.py [--algo havs] [--backend emu] [--rounds 5]
 

@@ -46,6 +46,8 @@ std::string load_check_script()
 
 std::string heat_legend_html()
 {
+    // Styled inline, so that it renders the same on every page whatever that page's style sheet holds (a tick label
+    // without its absolute position runs into the next one).
     std::string stops;
     for (int i = 0; i <= 8; ++i) {
         unsigned char c[3];
@@ -54,16 +56,23 @@ std::string heat_legend_html()
         std::snprintf(buf, sizeof buf, "%s#%02x%02x%02x %d%%", i ? ", " : "", c[0], c[1], c[2], i * 100 / 8);
         stops += buf;
     }
-    std::string html = "<div class=\"legend\"><div class=\"bar\" style=\"background: linear-gradient(to right, " +
-                       stops + ")\"></div><div class=\"ticks\">";
+    std::string html =
+        "<div class=\"legend\" style=\"width: 420px; margin: 1em 0 2em 0\"><div class=\"bar\" "
+        "style=\"height: 14px; border: 1px solid #888; background: linear-gradient(to right, " +
+        stops +
+        ")\"></div><div class=\"ticks\" style=\"position: relative; height: 1.2em; "
+        "font-size: 80%\">";
     const int decades = int(std::lround(std::log10(kHeatMax / kHeatMin)));
     for (int d = 0; d <= decades; ++d) {
-        char buf[96];
-        std::snprintf(buf, sizeof buf, "<span style=\"left:%.2f%%\">1e%d</span>", 100.0 * d / decades,
-                      int(std::lround(std::log10(kHeatMin))) + d);
+        char buf[160];
+        std::snprintf(buf, sizeof buf,
+                      "<span style=\"position: absolute; left: %.2f%%; transform: translateX(-50%%)\">1e%d</span>",
+                      100.0 * d / decades, int(std::lround(std::log10(kHeatMin))) + d);
         html += buf;
     }
-    return html + "</div><div class=\"caption\">largest channel error per pixel (log scale; black: none)</div></div>";
+    return html +
+           "</div><div class=\"caption\" style=\"font-size: 85%; color: #555\">largest channel error per "
+           "pixel (log scale; black: none)</div></div>";
 }
 
 namespace {
@@ -89,17 +98,14 @@ table { border-collapse: collapse; }
 th, td { padding: 0.4em 0.8em; border-bottom: 1px solid #ddd; text-align: right; vertical-align: middle; }
 th:first-child, td:first-child { text-align: left; }
 img { image-rendering: pixelated; width: 256px; background: #000; }
-.legend { width: 420px; margin: 1em 0 2em 0; }
-.legend .bar { height: 14px; border: 1px solid #888; }
-.legend .ticks { position: relative; height: 1.2em; font-size: 80%; }
-.legend .ticks span { position: absolute; transform: translateX(-50%); }
-.legend .caption { font-size: 85%; color: #555; }
 </style></head><body>
 )";
     h += "<h1>uvr compare</h1>\n<p>" + html_escape(m["mesh"].get<std::string>()) + ", field <b>" +
          html_escape(m["field"].get<std::string>()) + "</b>, " + std::to_string(m["width"].get<int>()) + " &times; " +
-         std::to_string(m["height"].get<int>()) + " pixels. Errors are measured against the reference over every "
-         "pixel and the four premultiplied channels (SPEC &sect;4); &ldquo;visible&rdquo; is the fraction of pixels "
+         std::to_string(m["height"].get<int>()) +
+         " pixels. Errors are measured against the reference over every "
+         "pixel and the four premultiplied channels (docs/spec.md &sect;4); &ldquo;visible&rdquo; is the fraction of "
+         "pixels "
          "whose largest channel error exceeds 1/255.</p>\n";
     h += heat_legend_html() + "\n<table>\n<tr><th>algorithm</th><th>image</th><th>error</th><th>RMSE</th>"
                               "<th>max</th><th>PSNR (dB)</th><th>visible</th><th>time (ms)</th></tr>\n";
@@ -200,18 +206,20 @@ void write_sweep_page(const std::string& dir, const nlohmann::json& w, bool plot
 
 void write_demo_page(const std::string& dir, const nlohmann::json& page)
 {
-    std::string html = "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>uvr demo</title>\n<style>"
-                       "body{font-family:sans-serif;margin:2em;max-width:70em}table{border-collapse:collapse}"
-                       "td,th{padding:4px 10px;border-bottom:1px solid #ddd;text-align:left}img{width:96px;"
-                       "image-rendering:pixelated;background:#000}.same{color:#070;font-weight:bold}.differs{color:#b00;"
-                       "font-weight:bold}.na{color:#777}</style></head>\n<body>\n<h1>uvr: how right GPU volume "
-                       "renderers are, and what they cost</h1>\n";
+    std::string html =
+        "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>uvr demo</title>\n<style>"
+        "body{font-family:sans-serif;margin:2em;max-width:70em}table{border-collapse:collapse}"
+        "td,th{padding:4px 10px;border-bottom:1px solid #ddd;text-align:left}img{width:256px;"
+        "image-rendering:pixelated;background:#000}.same{color:#070;font-weight:bold}.differs{color:#b00;"
+        "font-weight:bold}.na{color:#777}img.plot{width:560px;image-rendering:auto;background:#fff}"
+        "figure{display:inline-block;margin:0.5em}</style></head>\n<body>\n<h1>uvr: how right GPU volume "
+        "renderers are, and what they cost</h1>\n";
     char buf[512];
     std::snprintf(buf, sizeof buf,
                   "<p>Everything below was rendered just now from built-in data: a tetrahedralized torus (%zu points, "
                   "%zu tetrahedra) and a fuzzy torus on a 64 &times; 64 &times; 32 grid. Each algorithm is measured "
                   "against the exact reference (RMSE, largest channel error, fraction of pixels visibly different). "
-                  "On GL and through the seed's ARB programs, &ldquo;same bits&rdquo; means the image equals its "
+                  "On GL and through the paper's ARB programs, &ldquo;same bits&rdquo; means the image equals its "
                   "emulated twin bit for bit. Each heading links the full report with error maps.</p>\n",
                   page["mesh"]["points"].get<std::size_t>(), page["mesh"]["tetrahedra"].get<std::size_t>());
     html += buf;
@@ -244,6 +252,9 @@ void write_demo_page(const std::string& dir, const nlohmann::json& page)
     html += "<h2><a href=\"" + html_escape(page["sweep"].get<std::string>()) +
             "\">Error against the k-buffer's size (uvr sweep)</a></h2>\n<p>HAVS on the small torus, k = 1 to 16, three "
             "views: how the error falls as the k-buffer grows.</p>\n";
+    if (page.contains("sweep_plot"))
+        html += "<p><img class=\"plot\" src=\"" + html_escape(page["sweep_plot"].get<std::string>()) +
+                "\" alt=\"error against k\"></p>\n";
     if (page.contains("budgets")) {
         html += "<h2>Where the error comes from (uvr budget)</h2>\n<p>Each algorithm with every switch exact, then with "
                 "one cause at a time set back to its default: sorting, the table, the rasterizer's interpolation and "
@@ -252,6 +263,11 @@ void write_demo_page(const std::string& dir, const nlohmann::json& page)
             html += "<li><a href=\"" + html_escape(b["page"].get<std::string>()) + "\">" +
                     html_escape(b["title"].get<std::string>()) + "</a></li>\n";
         html += "</ul>\n";
+        for (const auto& b : page["budgets"])
+            if (b.contains("chart"))
+                html += "<figure><img class=\"plot\" src=\"" + html_escape(b["chart"].get<std::string>()) +
+                        "\" alt=\"" + html_escape(b["title"].get<std::string>()) + "\"><figcaption>" +
+                        html_escape(b["title"].get<std::string>()) + "</figcaption></figure>\n";
     }
     html += load_check_script() + "</body></html>\n";
     write_file_atomically(dir + "/index.html", html);

@@ -10,7 +10,7 @@
 
 namespace uvr::cli {
 
-// SPEC §4's measures as a run's JSON has them (psnr null for identical images).
+// docs/spec.md §4's measures as a run's JSON has them (psnr null for identical images).
 nlohmann::json measures_json(const ErrorMeasures& e);
 
 // Writes DIR/index.html for a compare report described by `metrics` (the content of metrics.json).

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# How cost grows with the mesh (issue 9). For each N in SIZES, the built-in torus of about N tetrahedra
+# How cost grows with the mesh. For each N in SIZES, the built-in torus of about N tetrahedra
 # (builtin:torus-N: TetGen from a fixed surface, quality bound 1.4, volume bound = torus volume / N; it makes about
 # 1.8 N) is exported once to OUT/torus-N/ (binary VTK, transfer function, camera), then every algorithm and backend
 # renders it 512 x 512 from the default view in a process of its own, so that the process's peak memory is that path's

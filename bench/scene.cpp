@@ -1,5 +1,7 @@
 #include "bench/scene.h"
 
+#include <array>
+#include <cstdint>
 #include <cstdio>
 
 #include <glm/geometric.hpp>
@@ -9,23 +11,39 @@
 
 namespace uvr::cli {
 
-void add_scene_options(CLI::App& cmd, SceneOptions& o)
+Dataset load_input(const InputOptions& in)
 {
-    add_input_options(cmd, o.input);
-    cmd.add_option("--tf", o.tf_path,
-                   "Transfer function JSON, or preset:NAME (viridis, inferno, plasma, cool-to-warm, grayscale, jet) "
-                   "on the default opacity (default: a ramp over the field's range; on a regular grid transparent "
-                   "around the most common value)");
-    cmd.add_option("--camera", o.camera_path, "Camera JSON (default: the whole mesh seen from +z)");
-    cmd.add_option("--view", o.view, "Orbit the default camera: AZIMUTH,ELEVATION in degrees");
-    cmd.add_option("--size", o.size, "Image size WxH")->capture_default_str();
+    LoadOptions lo;
+    lo.q_file = in.q_file;
+    lo.raw_dtype = in.dtype;
+    lo.raw_big_endian = in.big_endian;
+    lo.time_step = in.time_step;
+    if (!in.dims.empty()) {
+        std::array<int64_t, 3> d{0, 0, 0};
+        char c1 = 0, c2 = 0, extra = 0;
+        long long x = 0, y = 0, z = 0;
+        if (std::sscanf(in.dims.c_str(), "%lld%c%lld%c%lld%c", &x, &c1, &y, &c2, &z, &extra) != 5 || c1 != ',' ||
+            c2 != ',' || x < 1 || y < 1 || z < 1)
+            throw InputError("", "--dims must be X,Y,Z with positive integers, found '" + in.dims + "'");
+        d = {x, y, z};
+        lo.raw_dims = d;
+    }
+    Dataset d = load_dataset(in.path, lo);
+    if (d.mesh && !in.field.empty()) find_field(*d.mesh, in.field);  // fail early on an unknown --field
+    return d;
+}
+
+void print_warnings(const Dataset& d)
+{
+    for (const auto& w : d.warnings) std::fprintf(stderr, "uvr: warning: %s\n", w.c_str());
 }
 
 const TetMesh& Scene::mesh() const
 {
     if (!data.mesh)
-        throw InputError(data.volume->source, "is a regular grid: this takes a tetrahedral mesh (on volumes, "
-                                              "`render` and `compare` with --algo reference; the ray caster is issue 7)");
+        throw InputError(data.volume->source,
+                         "is a regular grid: this takes a tetrahedral mesh (on volumes, "
+                         "--algo reference or raycast)");
     return *data.mesh;
 }
 

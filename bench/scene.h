@@ -5,14 +5,26 @@
 #include <optional>
 #include <string>
 
-#include <CLI/CLI.hpp>
-
-#include "bench/options.h"
+#include "reference/dataset.h"
 #include "reference/camera.h"
 #include "reference/topology.h"
 #include "reference/transfer_function.h"
 
 namespace uvr::cli {
+
+struct InputOptions {
+    std::string path;
+    std::string q_file;
+    std::string dims;  // "X,Y,Z" for raw volumes
+    std::string dtype = "uint8";
+    bool big_endian = false;
+    std::string field;
+    std::string time_step = "last";  // Exodus II: --time INDEX|last
+};
+
+// Loads the input; throws InputError naming the file for anything wrong (an unknown --field included).
+Dataset load_input(const InputOptions& in);
+void print_warnings(const Dataset& d);  // the data's warnings on stderr, one line each
 
 struct SceneOptions {
     InputOptions input;
@@ -24,9 +36,6 @@ struct SceneOptions {
     std::optional<TransferFunction> tf;
     std::optional<Camera> camera;
 };
-
-// Adds the input options plus --tf, --camera, --view, --size.
-void add_scene_options(CLI::App& cmd, SceneOptions& o);
 
 struct Scene {
     Dataset data;

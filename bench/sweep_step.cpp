@@ -120,12 +120,13 @@ nlohmann::json run_step_sweep(Scene& s, const AlgoOptions& o, std::vector<double
     write_file_atomically(dir + "/sweep.json", out.dump(1) + "\n");
     write_file_atomically(dir + "/sweep.csv", csv);
     // The page: one table, error against step (the numbers are in sweep.csv for plotting).
-    std::string html = "<!doctype html><meta charset=utf-8><title>uvr sweep --step</title>"
-                       "<h1>Ray caster: error against the step</h1><p>" +
-                       html_escape(v.source) + ", " + std::to_string(s.width) + "x" + std::to_string(s.height) +
-                       ", backend " + html_escape(o.backend) +
-                       ". Error against the regular-grid reference (SPEC §4).</p><table border=1 cellpadding=4>"
-                       "<tr><th>view<th>classification<th>step<th>RMSE<th>max abs<th>PSNR<th>visible<th>samples<th>ms";
+    std::string html =
+        "<!doctype html><meta charset=utf-8><title>uvr sweep --step</title>"
+        "<h1>Ray caster: error against the step</h1><p>" +
+        html_escape(v.source) + ", " + std::to_string(s.width) + "x" + std::to_string(s.height) + ", backend " +
+        html_escape(o.backend) +
+        ". Error against the regular-grid reference (docs/spec.md §4).</p><table border=1 cellpadding=4>"
+        "<tr><th>view<th>classification<th>step<th>RMSE<th>max abs<th>PSNR<th>visible<th>samples<th>ms";
     for (const auto& r : out["rows"]) {
         char row[512];
         std::snprintf(row, sizeof row, "<tr><td>%d<td>%s<td>%.6g<td>%.3g<td>%.3g<td>%s<td>%.4f<td>%llu<td>%.0f",

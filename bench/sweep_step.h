@@ -1,5 +1,5 @@
 // `uvr sweep VOLUME --step LIST`: the ray caster's error against the reference as the step shrinks, post-classified and
-// pre-integrated, per view (issue 7), as `sweep --k` studies HAVS's error against k.
+// pre-integrated, per view, as `sweep --k` studies HAVS's error against k.
 #pragma once
 
 #include <string>

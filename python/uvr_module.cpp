@@ -1,6 +1,7 @@
 // The Python module `uvr` (docs/python.md): scenes from files or NumPy arrays, any algorithm's image on any backend,
-// the reference and SPEC §4's measures, as NumPy arrays and dicts. A thin layer over bench/: the same registry, scene
-// set-up and measures the `uvr` program uses, so a render here computes the program's bits.
+// the reference and docs/spec.md §4's measures, as NumPy arrays and dicts. A thin layer over bench/: the same registry,
+// scene set-up and measures the `uvr` program uses, so a render here computes the program's bits.
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -111,56 +112,44 @@ std::string python_names(const std::string& message)
     return out;
 }
 
-// Keyword options of render(): the program's option names with '_' for '-' (--table-size: table_size).
+// Keyword options of render() and budget(): one per row of the algorithm options' table (bench/algo_options.h), its
+// name with '_' for '-' (--table-size: table_size). A value is handed to the row's parser as the program's text would
+// be: a number as Python writes it (repr: the same double back), a bool as true/false.
+std::string option_text(const uvr::cli::AlgoOption& row, const py::handle& v)
+{
+    if (row.flag) {
+        if (!py::isinstance<py::bool_>(v)) throw py::cast_error();
+        return v.cast<bool>() != row.python_inverted ? "true" : "false";
+    }
+    if (py::isinstance<py::bool_>(v)) throw py::cast_error();  // True is not a number of anything
+    if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+    if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v)) return py::repr(v).cast<std::string>();
+    throw py::cast_error();
+}
+
 AlgoOptions algo_options(const py::kwargs& kwargs)
 {
+    const auto& table = uvr::cli::algo_option_table();
     AlgoOptions o;
     for (const auto& item : kwargs) {
         const std::string key = item.first.cast<std::string>();
-        const py::handle v = item.second;
-        try {
-            if (key == "backend") o.backend = v.cast<std::string>();
-            else if (key == "gl") o.gl = v.cast<std::string>();
-            else if (key == "k") {
-                // A whole number >= 1, or "all" (every fragment held: uvr::gpu::kEveryFragment, never a number).
-                const bool text = py::isinstance<py::str>(v);
-                if (text && v.cast<std::string>() == "all") {
-                    o.k = uvr::gpu::kEveryFragment;
-                } else {
-                    o.k = text ? 0 : v.cast<int>();  // any other text is refused below, as a count below 1 is
-                    if (o.k < 1) throw InputError("", "option 'k' must be a whole number of at least 1, or 'all'");
-                }
-            }
-            else if (key == "ties") o.ties = v.cast<std::string>();
-            else if (key == "segment") o.segment = v.cast<std::string>();
-            else if (key == "gaps") o.gaps = v.cast<std::string>();
-            else if (key == "order") o.order = v.cast<std::string>();
-            else if (key == "coverage") o.coverage = v.cast<std::string>();
-            else if (key == "interpolation") o.interpolation = v.cast<std::string>();
-            else if (key == "entries") o.entries = v.cast<std::string>();
-            else if (key == "threshold") o.threshold = v.cast<double>();
-            else if (key == "table_size") o.table_size = v.cast<int>();
-            else if (key == "table_format") o.table_format = v.cast<std::string>();
-            else if (key == "cache") o.no_cache = !v.cast<bool>();
-            else if (key == "step") o.step = v.cast<double>();
-            else if (key == "preintegrate") o.preintegrate = v.cast<bool>();
-            else if (key == "light") o.light = v.cast<std::string>();
-            else if (key == "volume_format") o.volume_format = v.cast<std::string>();
-            else if (key == "arb_draw") o.arb_draw = v.cast<std::size_t>();
-            else if (key == "arb_barrier") o.arb_barrier = v.cast<bool>();
-            else if (key == "send") o.send = v.cast<std::string>();
-            else
-                throw InputError("", "unknown option '" + key +
-                                         "' (backend, gl, k, ties, segment, gaps, order, coverage, interpolation, entries, "
-                                         "threshold, table_size, table_format, cache, step, preintegrate, light, "
-                                         "volume_format, arb_draw, arb_barrier, send)");
-        } catch (const py::cast_error&) {
-            throw InputError("", "option '" + key + "' has the wrong type: " +
-                                     py::str(py::type::of(v)).cast<std::string>());
+        const auto row = std::find_if(table.begin(), table.end(), [&](const uvr::cli::AlgoOption& r) {
+            return uvr::cli::python_keyword(r) == key;
+        });
+        if (row == table.end()) {
+            std::string known;
+            for (const auto& r : table) known += (known.empty() ? "" : ", ") + uvr::cli::python_keyword(r);
+            throw InputError("", "unknown option '" + key + "' (" + known + ")");
         }
+        std::string text;
+        try {
+            text = option_text(*row, item.second);
+        } catch (const py::cast_error&) {
+            throw InputError("", "option '" + key +
+                                     "' has the wrong type: " + py::str(py::type::of(item.second)).cast<std::string>());
+        }
+        row->set(o, text);
     }
-    // Per-pixel diagnostics are the program's --diagnostics; a Python render times and returns the image alone.
-    o.diagnostics = false;
     return o;
 }
 
@@ -390,7 +379,7 @@ PYBIND11_MODULE(uvr, m)
              py::arg("tf") = py::none(), py::arg("camera") = py::none(), py::arg("view") = py::none(),
              py::arg("size") = std::vector<int>{512, 512}, py::arg("time") = "last",
              "source: a file (any format uvr reads, builtin:torus, ...) or uvr.mesh / uvr.volume's data. tf and "
-             "camera: dicts in the JSON of the files (SPEC §1, §2), or a file name, or tf='preset:NAME'. view: "
+             "camera: dicts in the JSON of the files (docs/spec.md §1, §2), or a file name, or tf='preset:NAME'. view: "
              "(azimuth, elevation) orbiting the default camera. size: (width, height). time: an Exodus II file's "
              "time step, an index from 1 or 'last'.")
         .def_property_readonly("width", [](const PyScene& s) { return s.scene->width; })
@@ -437,7 +426,7 @@ PYBIND11_MODULE(uvr, m)
             return measures_dict(uvr::measure_errors(a.view, r.view, a.channels));
         },
         py::arg("image"), py::arg("reference"),
-        "SPEC §4's measures of an image against the reference: rmse, max_abs, psnr, visible_fraction (and "
+        "docs/spec.md §4's measures of an image against the reference: rmse, max_abs, psnr, visible_fraction (and "
         "covered_left_empty). An H x W x 3 image is colour only, compared with the reference's colour over black.");
     m.def(
         "budget",
@@ -464,4 +453,15 @@ PYBIND11_MODULE(uvr, m)
             return d;
         },
         "Every algorithm's name and the backends it renders on.");
+    m.def(
+        "options",
+        [] {
+            py::dict d;
+            for (const auto& r : uvr::cli::algo_option_table())
+                d[py::str(uvr::cli::python_keyword(r))] = py::dict(
+                    py::arg("option") = "--" + r.name, py::arg("help") = r.help, py::arg("default") = r.default_text,
+                    py::arg("switch") = r.flag, py::arg("inverted") = r.python_inverted);
+            return d;
+        },
+        "Every keyword option of render() and budget(): its program option (--table-size), help and default.");
 }

@@ -1,4 +1,4 @@
-// The camera of SPEC §2 and the ray through each pixel centre.
+// The camera of docs/spec.md §2 and the ray through each pixel centre.
 #pragma once
 
 #include <string>
@@ -23,7 +23,7 @@ struct Ray {
     glm::dvec3 dir;  // unit length; distances along the ray are world units from origin
 };
 
-// The orthonormal frame of SPEC §2: f = normalize(target - eye), r = normalize(f x up), u = r x f.
+// The orthonormal frame of docs/spec.md §2: f = normalize(target - eye), r = normalize(f x up), u = r x f.
 struct CameraFrame {
     glm::dvec3 f, r, u;
 };

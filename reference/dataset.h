@@ -1,8 +1,8 @@
 // Loading any supported file: the one entry point the `uvr` program and the tests use.
 //
-// The format is chosen by the file's extension (SPEC §3): .vtk, .vtu, .vti, .node/.ele, .off, PLOT3D (.bin/.xyz/.x/.q
-// with --q), .nrrd/.nhdr, .mhd/.mha, .slc, .raw (with --dims/--dtype), Exodus II (.exo/.e/.ex2, and .g when the file
-// is netCDF or HDF5; a .g file of other bytes is a PLOT3D grid).
+// The format is chosen by the file's extension (docs/spec.md §3): .vtk, .vtu, .vti, .node/.ele, .off, PLOT3D
+// (.bin/.xyz/.x/.q with --q), .nrrd/.nhdr, .mhd/.mha, .slc, .raw (with --dims/--dtype), Exodus II (.exo/.e/.ex2, and .g
+// when the file is netCDF or HDF5; a .g file of other bytes is a PLOT3D grid).
 #pragma once
 
 #include <array>

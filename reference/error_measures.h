@@ -1,4 +1,4 @@
-// SPEC §4's error measures of an image against the reference image of the same camera, and the error heat map.
+// docs/spec.md §4's error measures of an image against the reference image of the same camera, and the error heat map.
 #pragma once
 
 #include <string>
@@ -14,8 +14,8 @@ struct ErrorMeasures {
     double max_abs = 0.0;
     double psnr = 0.0;              // 20 log10(1 / rmse); +inf for identical images (JSON: null)
     double visible_fraction = 0.0;  // pixels whose largest channel error exceeds 1/255
-    // Not SPEC §4's, beside them for renderers that drop fragments: of the pixels the reference covers (alpha above
-    // 1/255, a visible coverage), the fraction where the image is empty (every compared channel exactly 0).
+    // Not docs/spec.md §4's, beside them for renderers that drop fragments: of the pixels the reference covers (alpha
+    // above 1/255, a visible coverage), the fraction where the image is empty (every compared channel exactly 0).
     double covered_left_empty = 0.0;
 };
 

@@ -1,4 +1,4 @@
-// Images: float32 premultiplied RGBA, row 0 at the top (SPEC §2), and their files.
+// Images: float32 premultiplied RGBA, row 0 at the top (docs/spec.md §2), and their files.
 #pragma once
 
 #include <string>

@@ -52,7 +52,7 @@ double signed_volume6(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3
 // A tetrahedron counts as degenerate (zero volume) when |6V| <= kDegenerateRelativeVolume * L^3, L its longest edge.
 // The determinant of the edge vectors is computed in double with a relative rounding error of a few 1e-16 of L^3, so
 // 1e-14 is two orders of magnitude above what rounding alone can produce for a truly flat tetrahedron, while a sliver
-// of relative volume 1e-12 (issue 10's case) is still accepted as a real cell.
+// of relative volume 1e-12 (the case) is still accepted as a real cell.
 inline constexpr double kDegenerateRelativeVolume = 1e-14;
 
 // What finalize_mesh does with a zero-volume tetrahedron. Files of unstructured cells reject it (a broken cell). The

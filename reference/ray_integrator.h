@@ -2,9 +2,10 @@
 //
 // Embree finds where a ray enters the mesh through its boundary (and re-enters a non-convex mesh); inside, the ray
 // walks from tetrahedron to tetrahedron through shared faces in double precision. In each tetrahedron the scalar is
-// linear (constant for a cell field) in the tetrahedron's own values, so each step is one segment of SPEC §1,
-// integrated in closed form (segment_integral.h) and composited front to back; across a face where the field jumps
-// the next segment starts from the next tetrahedron's value. See docs/reference.md for the exit-face rule, the tie-breaking and why the walk is watertight.
+// linear (constant for a cell field) in the tetrahedron's own values, so each step is one segment of docs/spec.md §1,
+// integrated in closed form (segment_integral.h) and composited front to back; across a face where the field jumps the
+// next segment starts from the next tetrahedron's value. See docs/reference.md for the exit-face rule, the tie-breaking
+// and why the walk is watertight.
 #pragma once
 
 #include <cstdint>
@@ -69,7 +70,7 @@ private:
 };
 
 // Accumulated alpha beyond which the rest of a ray cannot change any channel by more than 1e-15: the reference stops
-// there (it is not the GPU algorithms' early termination, which SPEC §3 sets with --threshold).
+// there (it is not the GPU algorithms' early termination, which docs/spec.md §3 sets with --threshold).
 inline constexpr double kReferenceOpaque = 1.0 - 1e-15;
 
 // Guard against a walk that stops making progress (a ray circling an edge in rounding noise): after this many

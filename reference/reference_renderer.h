@@ -1,4 +1,4 @@
-// Rendering a whole image with the ground truth: one ray per pixel (SPEC §2), tiles in parallel.
+// Rendering a whole image with the ground truth: one ray per pixel (docs/spec.md §2), tiles in parallel.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-// The emission-absorption integral of one ray segment (SPEC §1), in closed form, in double precision.
+// The emission-absorption integral of one ray segment (docs/spec.md §1), in closed form, in double precision.
 //
 // This one function is the ground truth's, the pre-integration tables' and every emulator's "exact" mode.
 //
@@ -29,7 +29,7 @@ double depth_average_transmittance(double A, double B);
 // Premultiplied RGBA of a piece on which colour goes linearly c0 -> c1 and extinction tau0 -> tau1 over length L.
 glm::dvec4 integrate_linear_piece(const glm::dvec3& c0, const glm::dvec3& c1, double tau0, double tau1, double L);
 
-// Front-to-back composite of `front` then `back` (SPEC §1).
+// Front-to-back composite of `front` then `back` (docs/spec.md §1).
 inline glm::dvec4 composite_over(const glm::dvec4& front, const glm::dvec4& back)
 {
     const double t = 1.0 - front.a;

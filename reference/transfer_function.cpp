@@ -226,7 +226,7 @@ TransferFunction default_volume_transfer_function(const std::vector<float>& valu
     at.erase(std::unique(at.begin(), at.end()), at.end());
     // What is left visible is a part of the box, not all of it: a compact part that holds the fraction f of the
     // voxels has chords about f^(1/3) of the box's, so its extinction is raised by f^(-1/3) to give a ray through it
-    // the optical depth the mesh default gives the whole diagonal (issue 27: the windowed default alone was dim).
+    // the optical depth the mesh default gives the whole diagonal (the windowed default alone is dim).
     double visible = 0.0;
     std::size_t finite = 0;
     for (float v : values)

@@ -1,4 +1,5 @@
-// Transfer functions (SPEC §1): colour and extinction, piecewise linear in the scalar, constant beyond the end nodes.
+// Transfer functions (docs/spec.md §1): colour and extinction, piecewise linear in the scalar, constant beyond the end
+// nodes.
 #pragma once
 
 #include <array>
@@ -30,10 +31,11 @@ struct TransferFunction {
     std::vector<double> breakpoints() const;
 };
 
-// Reads the JSON of SPEC §1: {"color": [[s,r,g,b],...], "extinction": [[s,tau],...]}, or "opacity" [[s,a],...] with
-// "unit_distance" u (tau = -ln(1-a)/u per node), and a ParaView preset ("RGBPoints", flat s,r,g,b list; also a preset
-// object or a one-element list of them under "color"). Throws InputError naming the file (and the line for JSON syntax
-// errors) on anything malformed: unsorted nodes, colour outside [0,1], negative or non-finite extinction, opacity >= 1.
+// Reads the JSON of docs/spec.md §1: {"color": [[s,r,g,b],...], "extinction": [[s,tau],...]}, or "opacity" [[s,a],...]
+// with "unit_distance" u (tau = -ln(1-a)/u per node), and a ParaView preset ("RGBPoints", flat s,r,g,b list; also a
+// preset object or a one-element list of them under "color"). Throws InputError naming the file (and the line for JSON
+// syntax errors) on anything malformed: unsorted nodes, colour outside [0,1], negative or non-finite extinction,
+// opacity >= 1.
 TransferFunction load_transfer_function(const std::string& path);
 TransferFunction parse_transfer_function(const std::string& json_text, const std::string& file);
 

@@ -1,5 +1,5 @@
-// The ground truth for regular grids (issue 7): SPEC §1's emission-absorption along a ray through a volume's trilinear
-// field, in double, without shading.
+// The ground truth for regular grids: docs/spec.md §1's emission-absorption along a ray through a volume's
+// trilinear field, in double, without shading.
 //
 // The field. Sample (i, j, k) sits at origin + (i, j, k) * spacing (reference/volume.h); between samples the scalar is
 // trilinear, so the data's domain is the box spanned by the samples, [origin, origin + (dims - 1) * spacing], and a
@@ -17,7 +17,7 @@
 // colour c and extinction tau are linear in s, hence cubics in t, and the optical depth T(t) = integral of tau is a
 // quartic, exact. The emission integral C = integral of c tau exp(-T) dt has no closed form: adaptive Gauss-Kronrod
 // (7/15 points) to an absolute tolerance that sums to kVolumeQuadratureTolerance over the whole ray. The pieces
-// composite front to back (SPEC §1).
+// composite front to back (docs/spec.md §1).
 #pragma once
 
 #include <cstdint>
@@ -31,7 +31,7 @@
 
 namespace uvr {
 
-// Issue 7: the quadrature to 1e-9. The emission integrals of one ray together err by at most this much per channel
+// The quadrature to 1e-9. The emission integrals of one ray together err by at most this much per channel
 // (each piece gets its share in proportion to its length); alpha is exact up to rounding.
 inline constexpr double kVolumeQuadratureTolerance = 1e-10;
 

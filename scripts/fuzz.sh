@@ -4,14 +4,14 @@
 #
 #   bash scripts/fuzz.sh [SECONDS_PER_TARGET] [TARGET...]     (default 60 seconds; targets: vtk_legacy vtu ... camera)
 #
-# Seeds: the small hand-made files of tests/fuzz/corpus/<target>/ and seeds made here from ../shared/data (small files
-# whole, prefixes of large ones, small valid sub-volumes and sub-grids cut out of the large ones); the shared data are
+# Seeds: the small hand-made files of tests/fuzz/corpus/<target>/ and seeds made here from data/ (small files
+# whole, prefixes of large ones, small valid sub-volumes and sub-grids cut out of the large ones); the data are
 # never copied into the repository. The corpus grows in build-fuzz/corpus/<target>/ from run to run. Findings (crash,
 # sanitizer report, leak, uncaught exception other than uvr::InputError, timeout, out-of-memory) are saved in
 # build-fuzz/findings/<target>/ and their logs in build-fuzz/logs/; the script prints executions and findings per
 # target, and exits 1 when any target has a finding. docs/robustness.md explains how to reproduce and triage one.
-# Environment: UVR_JOBS (build parallelism, default: the number of cores), UVR_DATA_DIR (shared data, default
-# ../shared/data), UVR_FUZZ_ARGS (extra libFuzzer flags), UVR_FUZZ_SKIP_BUILD=1 (run the targets already built).
+# Environment: UVR_JOBS (build parallelism, default: the number of cores), UVR_DATA_DIR (the data sets, default
+# data/), UVR_FUZZ_ARGS (extra libFuzzer flags), UVR_FUZZ_SKIP_BUILD=1 (run the targets already built).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -20,7 +20,7 @@ shift || true
 all=(vtk_legacy vtu vti tetgen off plot3d nrrd mha slc raw_volume exodus transfer_function camera)
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=("${all[@]}")
-data="${UVR_DATA_DIR:-$root/../shared/data}"
+data="${UVR_DATA_DIR:-$root/data}"
 out="$root/build-fuzz"
 
 # clang 14 and its libFuzzer/sanitizer runtimes (Debian 12); installed only when missing.
@@ -41,7 +41,7 @@ if [ "${UVR_FUZZ_SKIP_BUILD:-0}" != 1 ]; then
   cmake --build "$out" -j "${UVR_JOBS:-$(nproc)}" --target fuzz_targets
 fi
 
-# ---- seeds made from the shared data (build-fuzz/seeds/<target>/, remade every run) ----
+# ---- seeds made from the data sets (build-fuzz/seeds/<target>/, remade every run) ----
 seeds="$out/seeds"
 rm -rf "$seeds"
 for t in "${all[@]}"; do mkdir -p "$seeds/$t"; done
@@ -106,7 +106,7 @@ if [ -d "$v" ]; then
     >"$seeds/raw_volume/neghip_slice.bin"
   { printf '\x00'; le32 48; le32 62; le32 1; bytes "$v/HeadMRVolume.raw" 0 $((48 * 62)); } >"$seeds/raw_volume/headmr_slice.bin"
 else
-  echo "fuzz: no shared data at $data; fuzzing from tests/fuzz/corpus only"
+  echo "fuzz: no data at $data; fuzzing from tests/fuzz/corpus only"
 fi
 
 # ---- fuzzing, one target at a time ----

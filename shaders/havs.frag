@@ -1,15 +1,15 @@
-// HAVS's two passes on the GPU: the GLSL side of gpu/havs/havs.cpp (the emulated driver) and gpu/havs/gl_havs.cpp (the GL
-// driver). havs_fragment.frag is compiled in front of this file; the prelude defines
+// HAVS's two passes on the GPU: the GLSL side of gpu/havs/havs.cpp (the emulated driver) and gpu/havs/gl_havs.cpp (the
+// GL driver). havs_fragment.frag is compiled in front of this file; the prelude defines
 //   HAVS_K             the number of stored entries
-//   HAVS_TARGETS       the k-buffer's colour attachments, (HAVS_K + 1) / 2: two entries (x, y) a texel, as in the seed
+//   HAVS_TARGETS       the k-buffer's colour attachments, (HAVS_K + 1) / 2: two entries (x, y) a texel, as in the paper
 //   HAVS_PASS_FLUSH    for the flush pass (a full-screen triangle, k runs a pixel); absent for the geometry pass
 //   HAVS_DIAGNOSTICS   when the per-pixel diagnostics go to one more attachment
-//   HAVS_SEED_VARYINGS --interpolation gpu: the fragment values from the interpolated varyings (havs_seed_entry)
-//   HAVS_SEED_ENTRIES  --entries seed: the entry is the interpolated scalar, nullified only when negative
+//   HAVS_PAPER_VARYINGS --interpolation gpu: the fragment values from the interpolated varyings (havs_paper_entry)
+//   HAVS_PAPER_ENTRIES  --entries paper: the entry is the interpolated scalar, nullified only when negative
 //   HAVS_KBUFFER_IMAGES the read-modify-write through image load/store (no framebuffer fetch), with HAVS_INTERLOCK_ARB,
 //                      HAVS_INTERLOCK_NV or neither (llvmpipe)
 //
-// Read-modify-write of the k-buffer. The seed reads its k-buffer as textures bound to the very targets it renders
+// Read-modify-write of the k-buffer. The paper reads its k-buffer as textures bound to the very targets it renders
 // into, which GL leaves undefined once two fragments of one draw hit the same pixel. Here every attachment is an
 // `inout` output of GL_EXT_shader_framebuffer_fetch (coherent, not the _non_coherent variant): a fragment reads what
 // the previous fragment on its pixel wrote, in primitive order, which GL guarantees for framebuffer operations. So one
@@ -23,9 +23,9 @@
 // discard costs llvmpipe about 150 ms more on a Blunt Fin frame (512 x 512, k = 6: 0.65 s against 0.49 s, same run;
 // docs/gl-backend.md, "Speed").
 
-#if defined(HAVS_SEED_VARYINGS) && !defined(HAVS_PASS_FLUSH)
-smooth in vec3 havs_eye_position;  // the seed's texture coordinate 1
-smooth in float havs_eye_scalar;   // the seed's texture coordinate 0
+#if defined(HAVS_PAPER_VARYINGS) && !defined(HAVS_PASS_FLUSH)
+smooth in vec3 havs_eye_position;  // the paper's texture coordinate 1
+smooth in float havs_eye_scalar;   // the paper's texture coordinate 0
 flat in float havs_face_side;
 noperspective in vec3 havs_corner;
 #endif
@@ -93,17 +93,17 @@ void main()
     havs_diag = havs_load_diagnostics(pix);
 #endif
 #ifdef HAVS_PASS_FLUSH
-    // The flush: k runs of the program on kFlushFragment (-1, +inf; kSeedFlushFragment with --entries seed), one
+    // The flush: k runs of the program on kFlushFragment (-1, +inf; kPaperFlushFragment with --entries paper), one
     // after the other, in one full-screen pass. Each pixel sees the same k runs in the same order as from k passes of
     // one run each (the emulation's loop in gpu/havs/havs.cpp), with one fetch and one store of the attachments
     // instead of k.
     for (int run = 0; run < HAVS_K; ++run) havs_kbuffer(vec2(-1.0, havs_flush_distance), a, fb);
-#elif defined(HAVS_SEED_VARYINGS)
-    // --interpolation gpu: the seed's fragment program on the rasterizer's varyings; the side as below.
+#elif defined(HAVS_PAPER_VARYINGS)
+    // --interpolation gpu: the paper's fragment program on the rasterizer's varyings; the side as below.
     float side = havs_face_side;
     if (side < 0.0 && gl_FrontFacing) side = havs_side_entry;
-    side = havs_seed_side(side, havs_corner);
-    havs_kbuffer(havs_seed_entry(havs_eye_position, havs_eye_scalar, side), a, fb);
+    side = havs_paper_side(side, havs_corner);
+    havs_kbuffer(havs_paper_entry(havs_eye_position, havs_eye_scalar, side), a, fb);
 #else
     // The face's constants, in sorted order (gl_PrimitiveID counts the draw's triangles). A boundary face arrives with
     // side -1 (an exit) and stays one only when the rasterizer sees it back-facing; front-facing, it is an entry.

@@ -1,4 +1,4 @@
-// HAVS's fragment stage (seed 000, Appendix II): the GLSL twin of gpu/havs/havs_fragment.cpp (and of
+// HAVS's fragment stage (the HAVS paper, Appendix II): the GLSL twin of gpu/havs/havs_fragment.cpp (and of
 // gpu/havs/havs_kbuffer.h, the k-buffer program), operation for operation.
 // Read that file's header first; the comments here only say where GLSL needs care.
 //
@@ -21,7 +21,7 @@
 uniform double havs_two_over_width, havs_two_over_height;  // gl_FragCoord -> NDC
 uniform double havs_origin_x, havs_origin_y;                // orthographic ray origins; 0 under perspective
 uniform float havs_threshold;                               // the opacity kill
-uniform float havs_length_scale, havs_length_bias;          // the seed's sz.z and sz.w
+uniform float havs_length_scale, havs_length_bias;          // the paper's sz.z and sz.w
 uniform float havs_max_gap;                                 // segments longer than this contribute nothing (0: none)
 
 // ---- Per-face constants (HavsFace), flat, from a buffer texture ----
@@ -134,20 +134,20 @@ dvec2 havs_fragment_values(HavsFace f, ivec2 pix)
     return dvec2(x, distance);
 }
 
-// havs_seed_entry (--interpolation gpu): the seed's fragment values from the interpolated varyings, float32: the
+// havs_paper_entry (--interpolation gpu): the paper's fragment values from the interpolated varyings, float32: the
 // distance by DP3, RSQ, MUL (the dot product written in the order llvmpipe's lowering of dot() gives it, every result
 // precise), or -e.z under an orthographic view; the entry side * (1 + s), s clamped as above.
 uniform int havs_orthographic;
 
-// havs_seed_side: an interior face's fragment whose pixel centre lies outside its triangle (a corner weight below 0:
+// havs_paper_side: an interior face's fragment whose pixel centre lies outside its triangle (a corner weight below 0:
 // covered through snapping) takes the side kSideOutside, as havs_fragment_values gives it.
-float havs_seed_side(float side, vec3 corner)
+float havs_paper_side(float side, vec3 corner)
 {
     bool outside = corner.x < 0.0 || corner.y < 0.0 || corner.z < 0.0;
     return side == 1.0 && outside ? havs_side_outside : side;
 }
 
-vec2 havs_seed_entry(vec3 e, float s_in, float side)
+vec2 havs_paper_entry(vec3 e, float s_in, float side)
 {
     precise float distance;
     if (havs_orthographic != 0) {
@@ -160,8 +160,8 @@ vec2 havs_seed_entry(vec3 e, float s_in, float side)
         precise float rsq = inversesqrt(t);
         distance = t * rsq;
     }
-#ifdef HAVS_SEED_ENTRIES
-    return vec2(s_in, distance);  // --entries seed: the interpolated scalar itself (MOV a0.x, v.x)
+#ifdef HAVS_PAPER_ENTRIES
+    return vec2(s_in, distance);  // --entries paper: the interpolated scalar itself (MOV a0.x, v.x)
 #else
     precise float s = s_in < 0.0 ? 0.0 : s_in > 1.0 ? 1.0 : s_in;
     precise float one_plus_s = 1.0 + s;
@@ -182,9 +182,9 @@ vec2 havs_fragment_entry(HavsFace f, ivec2 pix)
 vec4 havs_shade(float u_front, float u_back, float t_z, float seg_length);
 
 
-// The flush fragment's distance: +inf, or with --entries seed 2^60, the distance the seed's program computes for the
-// ARB witness's flush quads (kSeedFlushFragment); a real entry lies nearer.
-#ifdef HAVS_SEED_ENTRIES
+// The flush fragment's distance: +inf, or with --entries paper 2^60, the distance the paper's program computes for the
+// ARB witness's flush quads (kPaperFlushFragment); a real entry lies nearer.
+#ifdef HAVS_PAPER_ENTRIES
 const float havs_flush_distance = uintBitsToFloat(0x5d800000u);
 #else
 const float havs_flush_distance = uintBitsToFloat(0x7f800000u);
@@ -243,8 +243,8 @@ bool havs_kbuffer(vec2 a0, inout vec2 a[HAVS_K], inout vec4 fb)
     }
     precise float seg_length = second.y - r[0].y;
     vec4 c = vec4(0.0);
-#ifdef HAVS_SEED_ENTRIES
-    // --entries seed: the seed's CMP c, r0.x, 0.0, c alone; the scalars are the table coordinates as they are.
+#ifdef HAVS_PAPER_ENTRIES
+    // --entries paper: the paper's CMP c, r0.x, 0.0, c alone; the scalars are the table coordinates as they are.
     precise bool nullified = r[0].x < 0.0;
     if (!nullified) {
         precise float t_z = seg_length * havs_length_scale + havs_length_bias;

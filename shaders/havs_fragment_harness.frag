@@ -2,7 +2,7 @@
 // pixel: one test case per pixel of a full-screen pass (gpu/havs/gl_havs_harness.cpp). Exactly one of
 //   HARNESS_ENTRY     havs_fragment_entry on face havs_face(case) at pixel harness_pixels[case]
 //   HARNESS_KBUFFER   havs_kbuffer on the case's stored entries, framebuffer colour and incoming entry
-//   HARNESS_SEED      havs_seed_side and havs_seed_entry on the case's varyings (--interpolation gpu)
+//   HARNESS_PAPER      havs_paper_side and havs_paper_entry on the case's varyings (--interpolation gpu)
 // is defined; with HARNESS_KBUFFER, HARNESS_SHADE_TABLE looks segments up in the real 3D table
 // (preintegration_table.frag), otherwise havs_shade returns the case's colour from a texture, isolating the k-buffer
 // logic from the table.
@@ -29,11 +29,11 @@ void main()
     out_values = uvec4(unpackDouble2x32(d.x), unpackDouble2x32(d.y));
 }
 
-#elif defined(HARNESS_SEED)
+#elif defined(HARNESS_PAPER)
 
 layout(binding = 0) uniform sampler2D in_varyings;  // (eye x, y, z, s)
 layout(binding = 1) uniform sampler2D in_side;      // (side, corner x, y, z)
-layout(location = 0) out vec4 out_seed;             // (x, distance, side, 0)
+layout(location = 0) out vec4 out_paper;             // (x, distance, side, 0)
 
 vec4 havs_shade(float u_front, float u_back, float t_z, float seg_length) { return vec4(0.0); }
 
@@ -42,8 +42,8 @@ void main()
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec4 v = texelFetch(in_varyings, p, 0);
     vec4 c = texelFetch(in_side, p, 0);
-    float side = havs_seed_side(c.x, c.yzw);
-    out_seed = vec4(havs_seed_entry(v.xyz, v.w, side), side, 0.0);
+    float side = havs_paper_side(c.x, c.yzw);
+    out_paper = vec4(havs_paper_entry(v.xyz, v.w, side), side, 0.0);
 }
 
 #elif defined(HARNESS_KBUFFER)

@@ -1,7 +1,7 @@
-// The ray caster's fragment program (seed 002): the GLSL twin of gpu/raycast/raycast_fragment.cpp, operation for operation.
-// Read that file's header first; the comments here only say where GLSL needs care. classification_table.frag and
-// preintegration_table.frag are compiled in front of this file; a pass appends its own main (raycast.frag in the
-// renderer), which also defines raycast_segment(), a pre-integrated segment's colour.
+// The ray caster's fragment program (Krüger and Westermann): the GLSL twin of gpu/raycast/raycast_fragment.cpp,
+// operation for operation. Read that file's header first; the comments here only say where GLSL needs care.
+// classification_table.frag and preintegration_table.frag are compiled in front of this file; a pass appends its own
+// main (raycast.frag in the renderer), which also defines raycast_segment(), a pre-integrated segment's colour.
 //
 // Every arithmetic result is `precise` (no fused multiply-add the emulation does not do). The ray is computed in
 // double (IEEE operations on llvmpipe), the march in float, as the emulation does; llvmpipe runs shaders with
@@ -128,9 +128,9 @@ RaycastRay raycast_ray(ivec2 pix)
     return ray;
 }
 
-// raycast_ray_seed (--interpolation gpu): the ray from the box passes' entry and exit texels. Float, every result
-// precise; the dot product in the order llvmpipe's lowering gives it, inversesqrt as 1 / sqrt (as havs_seed_entry).
-RaycastRay raycast_ray_seed(vec4 front, vec4 back)
+// raycast_ray_published (--interpolation gpu): the ray from the box passes' entry and exit texels. Float, every result
+// precise; the dot product in the order llvmpipe's lowering gives it, inversesqrt as 1 / sqrt (as havs_paper_entry).
+RaycastRay raycast_ray_published(vec4 front, vec4 back)
 {
     RaycastRay ray;
     ray.samples = 0;

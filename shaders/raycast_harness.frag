@@ -4,7 +4,7 @@
 //   HARNESS_RAY    raycast_ray_exact at pixel harness_pixels[case], every double before its rounding
 //   HARNESS_MARCH  raycast_march of ray harness_rays[case] over the bound textures
 //   HARNESS_LIGHT  raycast_light_factors of harness_lights[case]
-//   HARNESS_RAY_SEED  raycast_ray_seed of the entry and exit texels harness_texels[2 case], [2 case + 1]
+//   HARNESS_RAY_PUBLISHED  raycast_ray_published of the entry and exit texels harness_texels[2 case], [2 case + 1]
 // is defined. The frame constants are the renderer's uniforms (rc_*).
 
 uniform int harness_width;  // pixels per row: case = y * harness_width + x
@@ -84,7 +84,7 @@ void main()
     harness_results[i] = r;
 }
 
-#elif defined(HARNESS_RAY_SEED)
+#elif defined(HARNESS_RAY_PUBLISHED)
 
 struct HarnessRay {
     double length, entry[3], dir[3];
@@ -99,7 +99,7 @@ void main()
 {
     int i = harness_case();
     if (i >= harness_count) return;
-    RaycastRay ray = raycast_ray_seed(harness_texels[2 * i], harness_texels[2 * i + 1]);
+    RaycastRay ray = raycast_ray_published(harness_texels[2 * i], harness_texels[2 * i + 1]);
     HarnessRay h;
     h.length = ray.length;
     for (int k = 0; k < 3; ++k) {

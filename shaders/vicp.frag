@@ -3,7 +3,7 @@
 //
 // Front-to-back compositing reads the framebuffer colour in the shader (GL_EXT_shader_framebuffer_fetch, coherent:
 // each fragment sees what the previous one on its pixel wrote, in primitive order, the cells' order), as HAVS's
-// k-buffer does (shaders/havs.frag); the seed blends back to front in fixed function, which a front-to-back order
+// k-buffer does (shaders/havs.frag); the paper blends back to front in fixed function, which a front-to-back order
 // and the opacity kill cannot use (docs/vicp.md, "Compositing"). Back faces are dropped here, on gl_FrontFacing
 // (llvmpipe's fixed-point facing, which the emulation mirrors), not culled by glCullFace, whose draw-module stage
 // decides slivers on a float determinant (docs/rasterizer.md, "Not emulated" 2): each pixel sees a cell once,

@@ -1,7 +1,8 @@
-// VICP's fragment stage (seed 003, VICP-FragmentProg): the GLSL twin of gpu/vicp/vicp_fragment.cpp, operation for
-// operation. Read that file's header first; the comments here only say where GLSL needs care. vicp_tet.glsl and
-// preintegration_table.frag are compiled in front of this file; a pass appends its own main (vicp.frag in the
-// renderer, vicp_harness.frag in the stage harness), which also defines vicp_shade(), the segment's colour.
+// VICP's fragment stage (Moreland's dissertation, VICP-FragmentProg): the GLSL twin of gpu/vicp/vicp_fragment.cpp,
+// operation for operation. Read that file's header first; the comments here only say where GLSL needs care.
+// vicp_tet.glsl and preintegration_table.frag are compiled in front of this file; a pass appends its own main
+// (vicp.frag in the renderer, vicp_harness.frag in the stage harness), which also defines vicp_shade(), the segment's
+// colour.
 //
 // Every arithmetic result is `precise`. The segment is computed in double (IEEE operations on llvmpipe), the
 // compositing in float, as the emulation does; llvmpipe runs shaders with denormals flushed and the emulation runs
@@ -102,8 +103,8 @@ VicpSegment vicp_fragment_values(VicpTet tet, ivec2 pix)
 // arguments and may return a given colour instead).
 vec4 vicp_shade(float u_front, float u_back, float t_z, float seg_length);
 
-// vicp_composite of gpu/vicp/vicp_fragment.cpp on one pixel: fb is the framebuffer colour, replaced by the composited one;
-// diag is VicpDiagnostics as floats (fragments, ordering errors, last back, last front; counts exact below 2^24).
+// vicp_composite of gpu/vicp/vicp_fragment.cpp on one pixel: fb is the framebuffer colour, replaced by the composited
+// one; diag is VicpDiagnostics as floats (fragments, ordering errors, last back, last front; counts exact below 2^24).
 // Returns false when the fragment is killed: fb and diag are left as they were.
 bool vicp_composite(VicpSegment seg, inout vec4 fb, inout vec4 diag)
 {

@@ -3,7 +3,7 @@
 // as gpu/vicp/gl_vicp_harness.h's Gl* structs. Exactly one of
 //   HARNESS_VALUES     vicp_fragment_values of tetrahedron harness_tets[case] at pixel harness_pixels[case]
 //   HARNESS_COMPOSITE  vicp_composite of the case's segment onto its framebuffer colour and diagnostics
-//   HARNESS_SEED_EXIT  vicp_seed_exit (vicp_seed_fragment.frag) of harness_seed_varyings[2 case], [2 case + 1]
+//   HARNESS_PUBLISHED_EXIT  vicp_published_exit (vicp_published_fragment.frag) of harness_published_varyings[2 case], [2 case + 1]
 // is defined; with HARNESS_COMPOSITE, HARNESS_SHADE_TABLE looks the segment up in the real 3D table, otherwise
 // vicp_shade returns the case's own colour, isolating the compositing from the table. HARNESS_NONE is the fragment
 // side of the vertex harness's program, which never runs (the rasterizer discards).
@@ -13,10 +13,10 @@ uniform int harness_count;  // cases in this pass; the pixels past the last do n
 
 int harness_case() { return int(gl_FragCoord.y) * harness_width + int(gl_FragCoord.x); }
 
-#if defined(HARNESS_SEED_EXIT)
+#if defined(HARNESS_PUBLISHED_EXIT)
 
-layout(std430, binding = 0) readonly buffer HarnessSeedVaryings { vec4 harness_seed_varyings[]; };  // (distance, s), (scalar, 0)
-layout(std430, binding = 1) writeonly buffer HarnessSeedExits { vec4 harness_seed_exits[]; };  // (s_front, s_back, length, face)
+layout(std430, binding = 0) readonly buffer HarnessPublishedVaryings { vec4 harness_published_varyings[]; };  // (distance, s), (scalar, 0)
+layout(std430, binding = 1) writeonly buffer HarnessPublishedExits { vec4 harness_published_exits[]; };  // (s_front, s_back, length, face)
 
 vec4 vicp_shade(float u_front, float u_back, float t_z, float seg_length) { return vec4(0.0); }
 
@@ -24,9 +24,9 @@ void main()
 {
     int i = harness_case();
     if (i >= harness_count) return;
-    vec4 a = harness_seed_varyings[2 * i], b = harness_seed_varyings[2 * i + 1];
-    VicpSeedExit e = vicp_seed_exit(a.xyz, b.xyz, a.w);
-    harness_seed_exits[i] = vec4(e.s_front, e.s_back, e.length, float(e.face));
+    vec4 a = harness_published_varyings[2 * i], b = harness_published_varyings[2 * i + 1];
+    VicpPublishedExit e = vicp_published_exit(a.xyz, b.xyz, a.w);
+    harness_published_exits[i] = vec4(e.s_front, e.s_back, e.length, float(e.face));
 }
 
 #elif defined(HARNESS_VALUES)

@@ -1,27 +1,27 @@
-// Runs VICP's vertex stage (vicp_vertex.vert, compiled in front of this file behind vicp_tet.glsl) alone: one case
-// per vertex of glDrawArrays(GL_POINTS, 0, n) with the rasterizer discarding, each writing vicp_tet_constants of its
-// inputs to a storage buffer (gpu/vicp/gl_vicp_harness.cpp). The layouts are GlVicpVertexCase and GlVicpTet of
-// gpu/vicp/gl_vicp_harness.h. With HARNESS_SEED_VERTEX (vicp_seed_vertex.vert compiled in front instead), the seed's
-// vertex program: 11 floats a case in (VicpSeedVertex), 8 out (distance, s, scalar, 0).
-#if defined(HARNESS_SEED_VERTEX)
-layout(std430, binding = 0) readonly buffer HarnessSeedCases { float harness_seed_cases[]; };
-layout(std430, binding = 1) writeonly buffer HarnessSeedOut { float harness_seed_out[]; };
+// Runs VICP's vertex stage (vicp_vertex.vert, compiled in front of this file behind vicp_tet.glsl) alone: one case per
+// vertex of glDrawArrays(GL_POINTS, 0, n) with the rasterizer discarding, each writing vicp_tet_constants of its inputs
+// to a storage buffer (gpu/vicp/gl_vicp_harness.cpp). The layouts are GlVicpVertexCase and GlVicpTet of
+// gpu/vicp/gl_vicp_harness.h. With HARNESS_PUBLISHED_VERTEX (vicp_published_vertex.vert compiled in front instead), the
+// published vertex program: 11 floats a case in (VicpPublishedVertex), 8 out (distance, s, scalar, 0).
+#if defined(HARNESS_PUBLISHED_VERTEX)
+layout(std430, binding = 0) readonly buffer HarnessPublishedCases { float harness_published_cases[]; };
+layout(std430, binding = 1) writeonly buffer HarnessPublishedOut { float harness_published_out[]; };
 
 void main()
 {
     int b = 11 * gl_VertexID;
-    vec3 position = vec3(harness_seed_cases[b], harness_seed_cases[b + 1], harness_seed_cases[b + 2]);
-    float s = harness_seed_cases[b + 3];
-    vec3 gradient = vec3(harness_seed_cases[b + 4], harness_seed_cases[b + 5], harness_seed_cases[b + 6]);
-    vec3 plane = vec3(harness_seed_cases[b + 7], harness_seed_cases[b + 8], harness_seed_cases[b + 9]);
-    VicpSeedVaryings v = vicp_seed_vertex_program(position, s, gradient, plane, harness_seed_cases[b + 10]);
+    vec3 position = vec3(harness_published_cases[b], harness_published_cases[b + 1], harness_published_cases[b + 2]);
+    float s = harness_published_cases[b + 3];
+    vec3 gradient = vec3(harness_published_cases[b + 4], harness_published_cases[b + 5], harness_published_cases[b + 6]);
+    vec3 plane = vec3(harness_published_cases[b + 7], harness_published_cases[b + 8], harness_published_cases[b + 9]);
+    VicpPublishedVaryings v = vicp_published_vertex_program(position, s, gradient, plane, harness_published_cases[b + 10]);
     int o = 8 * gl_VertexID;
     for (int k = 0; k < 3; ++k) {
-        harness_seed_out[o + k] = v.distance[k];
-        harness_seed_out[o + 4 + k] = v.scalar[k];
+        harness_published_out[o + k] = v.distance[k];
+        harness_published_out[o + 4 + k] = v.scalar[k];
     }
-    harness_seed_out[o + 3] = v.s;
-    harness_seed_out[o + 7] = 0.0;
+    harness_published_out[o + 3] = v.s;
+    harness_published_out[o + 7] = 0.0;
     gl_Position = vec4(0.0, 0.0, 0.0, 1.0);
 }
 #else

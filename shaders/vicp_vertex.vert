@@ -1,7 +1,7 @@
-// VICP's vertex stage (seed 003, VICP-VertexProg): the GLSL twin of gpu/vicp/vicp_vertex.cpp, operation for operation.
-// Read that file's header first; the comments here only say where GLSL needs care. vicp_tet.glsl is compiled in
-// front of this file; a pass appends its own main (vicp.vert in the renderer, vicp_harness.vert in the stage
-// harness).
+// VICP's vertex stage (Moreland's dissertation, VICP-VertexProg): the GLSL twin of gpu/vicp/vicp_vertex.cpp, operation
+// for operation. Read that file's header first; the comments here only say where GLSL needs care. vicp_tet.glsl is
+// compiled in front of this file; a pass appends its own main (vicp.vert in the renderer, vicp_harness.vert in the
+// stage harness).
 //
 // Every arithmetic result is `precise` (no fused multiply-add, no reassociation), in double (GLSL fp64: IEEE double
 // operations on llvmpipe; its draw module runs vertex shaders with denormals flushed, as its fragment threads).

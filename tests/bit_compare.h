@@ -1,6 +1,6 @@
-// Bit-for-bit comparison of an emulated stage's outputs with the GL stage's (SPEC §5), shared by the HAVS and VICP
-// stage tests: counts of differing bit patterns, the largest difference in ulps, the first few cases described; and
-// the small table both sample in a real 3D texture.
+// Bit-for-bit comparison of an emulated stage's outputs with the GL stage's (docs/spec.md §5), shared by the HAVS and
+// VICP stage tests: counts of differing bit patterns, the largest difference in ulps, the first few cases described;
+// and the small table both sample in a real 3D texture.
 #pragma once
 
 #include <algorithm>

@@ -1,7 +1,8 @@
-// Frame-level comparison of a GL driver's frame with the emulated driver's (SPEC §5), shared by the HAVS and VICP
-// frame tests: the OSMesa context they render with, and the pixel-by-pixel bit comparison.
+// Frame-level comparison of a GL driver's frame with the emulated driver's (docs/spec.md §5), shared by the HAVS and
+// VICP frame tests: the OSMesa context they render with, and the pixel-by-pixel bit comparison.
 #pragma once
 
+#include <cstdint>
 #include <cstring>
 #include <sstream>
 #include <string>
@@ -19,13 +20,33 @@ inline gpu::GlContext& osmesa()
     return ctx;
 }
 
+// GL's own count of the primitives the draws of `draw()` submitted (GL_PRIMITIVES_SUBMITTED, a pipeline-statistics
+// query): what a driver sent, counted by the GL rather than by uvr. Needs GL_ARB_pipeline_statistics_query.
+template <class Draw>
+uint64_t primitives_submitted(gpu::GlContext& ctx, Draw&& draw)
+{
+    ctx.make_current();
+    const gpu::GlFunctions& gl = ctx.gl();
+    GLuint query = 0;
+    gl.GenQueries(1, &query);
+    gl.BeginQuery(GL_PRIMITIVES_SUBMITTED_ARB, query);
+    draw();
+    ctx.make_current();
+    gl.EndQuery(GL_PRIMITIVES_SUBMITTED_ARB);
+    GLuint64 n = 0;
+    gl.GetQueryObjectui64v(query, GL_QUERY_RESULT, &n);
+    gl.DeleteQueries(1, &query);
+    ctx.check_error("the primitives-submitted query");
+    return n;
+}
+
 struct FrameDiff {
     std::size_t pixels = 0, differing = 0, coverage_differs = 0, diagnostics_differ = 0;
     std::string first;  // the first differing pixel, for INFO
 };
 
-// `gl` against `emu` bit for bit. diagnostics_differ(p) says whether pixel p's diagnostics differ (SPEC row order);
-// describe(p) says what to add about pixel p to the first difference's description.
+// `gl` against `emu` bit for bit. diagnostics_differ(p) says whether pixel p's diagnostics differ (the image's row
+// order (row 0 on top)); describe(p) says what to add about pixel p to the first difference's description.
 template <class Differ, class Describe>
 FrameDiff diff_frames(const Image& gl, const Image& emu, Differ&& diagnostics_differ, Describe&& describe)
 {

@@ -1,4 +1,4 @@
-// Issue 4's convergence bar, shared by the HAVS tests that compare a frame with the reference: exact segments, exact
+// The convergence bar, shared by the HAVS tests that compare a frame with the reference: exact segments, exact
 // gaps, no early termination and k at least the largest fragment count make HAVS compute the reference's integral,
 // up to float32 fragment values and compositing.
 #pragma once
@@ -10,9 +10,12 @@
 
 namespace uvr::test {
 
-// The bars are issue 4's own figures. What stays is float32 fragment values and compositing: measured RMSE <= 2.5e-7
-// and largest errors <= 6.8e-5 on the torus, Blunt Fin and the Oxygen Post (docs/havs.md).
-constexpr double kConvergenceRmse = 1e-5;
+// What stays is float32 fragment values and compositing. Each bar is sized from the largest figure the tests that
+// use it measure (test_havs, test_havs_clip, test_havs_flush, test_sliver: run with both bars at 0, every check
+// prints its figure), with room for another CPU's roundings: RMSE at most 7.8e-7 (test_havs_clip, a view that cuts
+// the mesh), the bar 2.6 times that; the largest error at most 6.7e-5 (test_havs, the Oxygen Post), the bar 1.5
+// times that.
+constexpr double kConvergenceRmse = 2e-6;
 constexpr double kConvergenceMax = 1e-4;
 
 // The k of the convergence tests: more than any test scene puts on one pixel (each test requires it), so the
@@ -28,7 +31,7 @@ inline gpu::HavsOptions exact_havs_options(int k)
     return o;
 }
 
-// HAVS's frame (by default exact segments and k = kConvergenceK, the seed's interpolation and coverage), and the
+// HAVS's frame (by default exact segments and k = kConvergenceK, the paper's interpolation and coverage), and the
 // reference's.
 struct HavsAndReference {
     gpu::HavsFrame havs;

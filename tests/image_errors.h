@@ -1,5 +1,5 @@
-// SPEC §4's error measures recomputed for the tests, independently of reference/error_measures.cpp (the code under
-// test in test_compare), in double over float32 RGBA.
+// docs/spec.md §4's error measures recomputed for the tests, independently of reference/error_measures.cpp (the code
+// under test in test_compare), in double over float32 RGBA.
 #pragma once
 
 #include <algorithm>

@@ -1,7 +1,7 @@
-// Random inputs of HAVS's k-buffer program (seed 000, Appendix II) for the stage tests: exact ties from a per-case
-// pool of distances, empty and flush entries, +inf, every side of the entry encoding, framebuffer alphas at the kill
-// threshold and one ulp either side, segments a maximum gap long. test_havs_gl_stage.cpp runs them through GLSL,
-// test_havs_kbuffer.cpp through the program's instances.
+// Random inputs of HAVS's k-buffer program (the HAVS paper, Appendix II) for the stage tests: exact ties from a
+// per-case pool of distances, empty and flush entries, +inf, every side of the entry encoding, framebuffer alphas at
+// the kill threshold and one ulp either side, segments a maximum gap long. test_havs_gl_stage.cpp runs them through
+// GLSL, test_havs_kbuffer.cpp through the program's instances.
 #pragma once
 
 #include <cmath>

@@ -32,7 +32,7 @@ inline Scene make_scene(TetMesh mesh, std::size_t field)
     return s;
 }
 
-// A PLOT3D data set of ../shared/data with the named field ("" for the first).
+// A PLOT3D data set of data with the named field ("" for the first).
 inline Scene plot3d(const char* xyz, const char* q, const std::string& field)
 {
     LoadOptions o;

@@ -1,6 +1,6 @@
 // The independent check of the closed-form segment integral: adaptive Gauss-Legendre quadrature in long double of the
-// defining integrals of SPEC §1, used only by tests. It shares nothing with reference/segment_integral.cpp but the
-// transfer function's own evaluation (color_at, tau_at).
+// defining integrals of docs/spec.md §1, used only by tests. It shares nothing with reference/segment_integral.cpp but
+// the transfer function's own evaluation (color_at, tau_at).
 #pragma once
 
 #include <array>

@@ -1,5 +1,6 @@
-// `uvr budget` (issue 26, SPEC §7): the baseline equals the reference, each factor run differs from the baseline by its
-// own switch only, every number is SPEC §4's measure of the kept images, and scenes whose answer is known give it.
+// `uvr budget` (docs/spec.md §7): the baseline equals the reference, each factor run differs from the
+// baseline by its own switch only, every number is docs/spec.md §4's measure of the kept images, and scenes whose
+// answer is known give it.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -20,8 +21,8 @@ namespace {
 // The baseline's bar: bench/budget.h's kBudgetBaselineMax, the float32 precision HAVS and VICP keep with every
 // switch exact (at most 9e-7 measured on the hardest views, tests/test_exact_coverage.cpp).
 constexpr double kBaselineMax = 2e-6;
-// Issue 26's bar for VICP's interpolation factor where the distances are linear (an orthographic view): float
-// rounding, away from the seed's wrong exits (docs/budget.md says why those are apart).
+// The bar for VICP's interpolation factor where the distances are linear (an orthographic view): float
+// rounding, away from the published wrong exits (docs/budget.md says why those are apart).
 constexpr double kLinearInterpolationRmse = 1e-6;
 
 const std::string kBluntFin = "'" + uvr::test::data_path("vtk-data/bluntfinxyz.bin") + "' --q '" +
@@ -130,7 +131,8 @@ TEST_CASE("each factor run of uvr budget differs from the baseline by its own sw
             require_only(f["sort"], b["baseline"], {sort_switch});
         require_only(f["table"], b["baseline"], {"segment", "table_size", "table_format"});
         CHECK(f["table"]["switches"]["segment"] == "table");
-        // VICP's seed has varyings only on the rasterizer's fragments: its interpolation run takes its coverage too.
+        // VICP's published program has varyings only on the rasterizer's fragments: its interpolation run takes its
+        // coverage too.
         if (std::string(algo) == "vicp") {
             require_only(f["interpolation"], b["baseline"], {"interpolation", "coverage"});
             CHECK(f["interpolation"]["with"] == nlohmann::json::array({"coverage"}));

@@ -1,4 +1,4 @@
-// Camera files and pixel rays (SPEC §2).
+// Camera files and pixel rays (docs/spec.md §2).
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -14,7 +14,7 @@ namespace {
 constexpr double kRayTolerance = 1e-14;
 }  // namespace
 
-TEST_CASE("perspective rays pass through pixel centres as SPEC §2 defines them")
+TEST_CASE("perspective rays pass through pixel centres as docs/spec.md §2 defines them")
 {
     Camera cam;
     cam.eye = {0, 0, 5};

@@ -192,7 +192,7 @@ TEST_CASE("uvr bench times HAVS without counting fragments and prints no fragmen
 
 TEST_CASE("uvr render with the camera inside the mesh: HAVS and VICP render it on both backends with the same bits")
 {
-    // VTK's post.vtk seen from a point inside its flow region (issue 10; docs/havs.md "Views that cut the mesh").
+    // VTK's post.vtk seen from a point inside its flow region (docs/havs.md "Views that cut the mesh").
     uvr::test::TempDir tmp("inside");
     const std::string mesh = quoted(data_path("vtk-data/post.vtk"));
     const std::string cam = tmp.write(
@@ -227,8 +227,8 @@ TEST_CASE("uvr demo runs with no argument and shows the whole lab, each GL image
     INFO(r.out << r.err);
     REQUIRE(r.exit_code == 0);
     CHECK(std::filesystem::exists(tmp.file("d/index.html")));
-    for (const char* part : {"compare", "compare-gl", "compare-seed-entries", "compare-arb", "raycast", "raycast-gl", "sweep",
-                             "budget-havs", "budget-vicp"})
+    for (const char* part : {"compare", "compare-gl", "compare-paper-entries", "compare-arb", "raycast", "raycast-gl",
+                             "sweep", "budget-havs", "budget-vicp"})
         CHECK(std::filesystem::exists(tmp.file(std::string("d/") + part + "/index.html")));
     CHECK(std::filesystem::exists(tmp.file("d/compare/havs-emu-k6-error.png")));
     CHECK(std::filesystem::exists(tmp.file("d/sweep/sweep.csv")));
@@ -241,7 +241,20 @@ TEST_CASE("uvr demo runs with no argument and shows the whole lab, each GL image
         CHECK(r.out.substr(at, r.out.find('\n', at) - at).find("same bits as") != std::string::npos);
     }
     CHECK_THAT(r.out, !Catch::Contains("join as they land"));
-    CHECK_THAT(uvr::test::file_contents(tmp.file("d/index.html")), Catch::Contains("same bits"));
+    // The landing page shows, not only links: images at 256 px, the error-against-k plot and the budget charts
+    // inline (python3-matplotlib is one of the packages scripts/install-deps.sh installs).
+    const std::string index = uvr::test::file_contents(tmp.file("d/index.html"));
+    CHECK_THAT(index, Catch::Contains("same bits") && Catch::Contains("img{width:256px;"));
+    for (const char* plot : {"sweep/error_vs_k.png", "budget-havs/budget.png", "budget-vicp/budget.png"}) {
+        CHECK_THAT(index, Catch::Contains(std::string("src=\"") + plot + "\""));
+        CHECK(std::filesystem::exists(tmp.file(std::string("d/") + plot)));
+    }
+    // The error maps' colour bar places each tick itself (inline style), so that its labels do not run together on a
+    // page whose style sheet has no rule for them, as the budget page's has none.
+    const std::string budget = uvr::test::file_contents(tmp.file("d/budget-havs/index.html"));
+    CHECK_THAT(budget,
+               Catch::Contains("<span style=\"position: absolute; left: 0.00%; transform: translateX(-50%)\">1e-"));
+    CHECK_THAT(budget, !Catch::Contains("(<div class=\"legend\""));  // not inside a paragraph's text
 }
 
 TEST_CASE("an interrupted sweep resumed from disk gives the same numbers as one uninterrupted")
@@ -288,7 +301,7 @@ TEST_CASE("uvr render --algo vicp renders the reference's image with exact segme
         const uvr::test::ImageErrors e =
             uvr::test::image_errors(uvr::read_npy(tmp.file("vicp.npy")), uvr::read_npy(tmp.file("ref.npy")));
         INFO("RMSE " << e.rmse << ", max " << e.max_abs);
-        CHECK(e.rmse <= 1e-5);  // issue 6's bar (tests/test_vicp.cpp)
+        CHECK(e.rmse <= 1e-5);  // the bar (tests/test_vicp.cpp)
         const auto j = nlohmann::json::parse(vicp.out);
         CHECK(j["algo"] == "vicp");
         CHECK(j["ordering_errors"] == 0);
@@ -311,8 +324,8 @@ TEST_CASE("uvr render --algo vicp renders the reference's image with exact segme
                 CHECK(file_contents(tmp.file(order) + "-gl/" + d) == file_contents(tmp.file(order) + "-emu/" + d));
             const auto j = nlohmann::json::parse(gl.out);
             CHECK_THAT(j["gl"].get<std::string>(), Catch::Contains("llvmpipe"));
-            // The seed's pipeline by default: ProjectTet's 132 bytes a face, for the faces that make fragments
-            // (--send covered; the seed's 528 a cell with --send all); the wrong-exit diagnostic is the emulation's
+            // The published pipeline by default: ProjectTet's 132 bytes a face, for the faces that make fragments
+            // (--send covered; the published 528 a cell with --send all); the wrong-exit diagnostic is the emulation's
             // alone (null on GL).
             CHECK(j["interpolation"] == "gpu");
             CHECK(j["send"] == "covered");

@@ -1,4 +1,4 @@
-// SPEC §4's error measures and `uvr compare`'s report.
+// docs/spec.md §4's error measures and `uvr compare`'s report.
 #include <cmath>
 #include <algorithm>
 #include <filesystem>
@@ -119,7 +119,7 @@ TEST_CASE("uvr compare --interpolation gpu,exact shows the ray caster in both mo
     INFO(r.err);
     REQUIRE(r.exit_code == 0);
     const auto m = nlohmann::json::parse(uvr::test::file_contents(dir + "/metrics.json"));
-    REQUIRE(m["results"].size() == 3);  // the reference, the seed's passes, the exact ray
+    REQUIRE(m["results"].size() == 3);  // the reference, the published passes, the exact ray
     CHECK(m["results"][1]["label"] == "raycast-emu-post");
     CHECK(m["results"][1]["stats"]["interpolation"] == "gpu");
     CHECK(m["results"][1]["stats"]["box"]["triangles"].get<int>() >= 12);

@@ -1,5 +1,5 @@
 // `uvr compare --image`: an image made elsewhere, measured against the reference of the same scene like an algorithm's
-// (issue 27). The expected measures are computed here from the perturbation, pixel by pixel.
+//. The expected measures are computed here from the perturbation, pixel by pixel.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -27,7 +27,7 @@ struct Expected {
     double rmse = 0, max_abs = 0, visible = 0, covered_left_empty = 0;
 };
 
-// SPEC §4 over `channels` channels (4, or 3: colour against the reference's premultiplied colour).
+// docs/spec.md §4 over `channels` channels (4, or 3: colour against the reference's premultiplied colour).
 Expected expected(const Image& a, const Image& ref, int channels)
 {
     Expected e;

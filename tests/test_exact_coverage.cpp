@@ -1,6 +1,6 @@
 // --coverage exact (gpu/pipeline/exact_coverage.h): a pixel whose ray crosses a sheet of triangles is covered by
 // exactly one of them, also when its centre lies on a shared edge or vertex; and, with every other switch exact,
-// HAVS and VICP then equal the reference to float32 precision (SPEC §6, §7).
+// HAVS and VICP then equal the reference to float32 precision (docs/spec.md §6, §7).
 #include <cstring>
 #include <random>
 #include <vector>
@@ -22,8 +22,8 @@ using namespace uvr::gpu;
 
 namespace {
 
-// SPEC §6: with every switch exact, HAVS (and VICP) equal the reference to float32 precision on images whose values
-// are at most 1.
+// docs/spec.md §6: with every switch exact, HAVS (and VICP) equal the reference to float32 precision on images whose
+// values are at most 1.
 constexpr double kExactMax = 2e-6;
 
 // Counts, per pixel of a W x H window, how many triangles of `tris` (vertex ids into `pts`) cover it exactly.

@@ -35,8 +35,8 @@ namespace {
 // the image is float32 (6e-8 relative); test_reference_analytic.cpp's bar. A segment that starts from the wrong side's
 // value costs 1e-2 and more on these scenes.
 constexpr double kReferenceTolerance = 1e-6;
-// HAVS and VICP with every switch exact against the same closed form: SPEC §6's bar for float32 fragment values and
-// compositing (bench/budget.h's kBudgetBaselineMax).
+// HAVS and VICP with every switch exact against the same closed form: docs/spec.md §6's bar for float32 fragment values
+// and compositing (bench/budget.h's kBudgetBaselineMax).
 constexpr double kExactGpuTolerance = 2e-6;
 
 // A segment in closed form under one of two transfer functions chosen so that a closed form exists for a linear

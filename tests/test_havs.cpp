@@ -1,4 +1,4 @@
-// HAVS emulated, frame by frame, against the ground truth (issue 4's tests).
+// HAVS emulated, frame by frame, against the ground truth (the tests).
 #include <cmath>
 
 #include <tbb/global_control.h>
@@ -59,11 +59,11 @@ TEST_CASE("HAVS with exact segments, exact gaps, no early termination and enough
     // The Oxygen Post's default view has slivers seen edge-on. The rasterizer covers pixels through snapping that lie
     // far outside such a sliver's true triangle (many of its heights), and llvmpipe's planes come from the unsnapped
     // positions: there the interpolated distance and scalar extrapolate far off the mesh (a fragment 57 units in front
-    // of the mesh's first, docs/havs.md "The seed's interpolation"). That is the seed's pipeline on llvmpipe, not the
+    // of the mesh's first, docs/havs.md "The paper's interpolation"). That is the paper's pipeline on llvmpipe, not the
     // k-buffer: with the exact interpolation's snapped weights, or with exact coverage, the frame converges.
     for (const bool exact_interpolation : {true, false}) {
         DYNAMIC_SECTION("the Oxygen Post, " << (exact_interpolation ? "exact interpolation"
-                                                                    : "the seed's interpolation with exact coverage"))
+                                                                    : "the paper's interpolation with exact coverage"))
         {
             const Scene s = plot3d("vtk-data/postxyz.bin", "vtk-data/postq.bin", "StagnationEnergy");
             HavsOptions o = test::exact_havs_options(test::kConvergenceK);
@@ -146,10 +146,10 @@ TEST_CASE("the HAVS frame without diagnostics has the same bits and no per-pixel
 {
     const Scene s = make_scene(load_builtin("builtin:torus-small"), 0);
     const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 30.0, 50.0);
-    for (const bool seed_entries : {false, true}) {
-        INFO("--entries " << (seed_entries ? "seed" : "marked"));
+    for (const bool paper_entries : {false, true}) {
+        INFO("--entries " << (paper_entries ? "paper" : "marked"));
         HavsOptions o;
-        o.entries = seed_entries ? EntryEncoding::seed : EntryEncoding::marked;
+        o.entries = paper_entries ? EntryEncoding::paper : EntryEncoding::marked;
         const HavsFrame with = HavsRenderer(s.mesh, s.topo, s.field, s.tf, o, true).render(cam, 160, 120);
         const HavsFrame without = HavsRenderer(s.mesh, s.topo, s.field, s.tf, o, false).render(cam, 160, 120);
         CHECK(with.image.rgba == without.image.rgba);
@@ -174,7 +174,7 @@ TEST_CASE("far from the origin: HAVS on coordinates at 1e8 with features at 1e-3
 
 TEST_CASE("exact gaps do not apply the maximum-gap rule; --gaps maxgap does")
 {
-    // SPEC §6 compares the exact gaps with VTK's heuristic: exact gaps must not drop a segment for its length.
+    // docs/spec.md §6 compares the exact gaps with VTK's heuristic: exact gaps must not drop a segment for its length.
     const Scene s = make_scene(load_builtin("builtin:torus-small"), 0);
     const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 20.0, 30.0);
     HavsOptions o = test::exact_havs_options(1);

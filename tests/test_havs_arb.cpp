@@ -1,6 +1,6 @@
-// The seed's own ARB programs as a witness (issue 24, SPEC §7: --backend arb): their text is the seed's but for three
-// repairs of the print; the fragment program computes the emulated k-buffer program's bits (--entries seed) on a
-// million random cases; and whole frames through them equal the GLSL driver's and the emulation's.
+// The paper's own ARB programs as a witness (docs/spec.md §7: --backend arb): their text is the paper's but
+// for three repairs of the print; the fragment program computes the emulated k-buffer program's bits (--entries paper)
+// on a million random cases; and whole frames through them equal the GLSL driver's and the emulation's.
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -31,11 +31,11 @@ GlContext& compat()
     return ctx;
 }
 
-// The seed's appendices (../shared/seeds/000_...): the vertex program is the first code block, the fragment program
-// the other three (the print breaks it across pages).
-std::pair<std::string, std::string> seed_programs()
+// The paper's appendices as printed (data/havs-paper/appendices.md): the vertex program is the first code block, the
+// fragment program the other three (the print breaks it across pages).
+std::pair<std::string, std::string> paper_programs()
 {
-    const std::string text = test::file_contents(test::data_path("../seeds/000_8df6459234f469bd.txt"));
+    const std::string text = test::file_contents(test::data_path("havs-paper/appendices.md"));
     const std::regex block("```\n([\\s\\S]*?)```");
     std::vector<std::string> blocks;
     for (auto it = std::sregex_iterator(text.begin(), text.end(), block); it != std::sregex_iterator(); ++it)
@@ -53,39 +53,39 @@ void repair(std::string& s, const std::string& from, const std::string& to)
     s.replace(at, from.size(), to);
 }
 
-HavsOptions seed_options()
+HavsOptions paper_options()
 {
     HavsOptions o;
     o.k = kArbK;
-    o.entries = EntryEncoding::seed;
+    o.entries = EntryEncoding::paper;
     return o;
 }
 
 }  // namespace
 
-TEST_CASE("the ARB programs are the seed's appendices but for three repairs of the print")
+TEST_CASE("the ARB programs are the paper's appendices but for three repairs of the print")
 {
-    auto [vp, fp] = seed_programs();
-    SECTION("the printed vertex program does not load; the header repaired, it is shaders/havs_seed.vp")
+    auto [vp, fp] = paper_programs();
+    SECTION("the printed vertex program does not load; the header repaired, it is shaders/havs_paper.vp")
     {
         const auto arb = load_arb_functions(compat());
         CHECK_THROWS_WITH(ArbProgram(compat(), *arb, arb::kVertexProgram, "printed", vp),
                           Catch::Matchers::Contains("does not load"));
         repair(vp, "!!ARBvpl.0", "!!ARBvp1.0");
-        CHECK(vp == read_shader_file("havs_seed.vp"));
+        CHECK(vp == read_shader_file("havs_paper.vp"));
     }
-    SECTION("the fragment program with the kill's SUB and the write-back's swizzles repaired is shaders/havs_seed.fp")
+    SECTION("the fragment program with the kill's SUB and the write-back's swizzles repaired is shaders/havs_paper.fp")
     {
         repair(fp, "SUB t.w, t, 0.99, c0.w;", "SUB t.w, 0.99, c0.w;");
         for (const char* pair : {"r1.zw, r2", "r3.zw, r4", "r5.zw, r6"})
             repair(fp, std::string("MOV ") + pair + ".xxy;", std::string("MOV ") + pair + ".xxxy;");
-        CHECK(fp == read_shader_file("havs_seed.fp"));
+        CHECK(fp == read_shader_file("havs_paper.fp"));
     }
 }
 
 namespace {
 
-// Random cases for the seed's k-buffer program: stored entries with ties, empty entries (-1, 0), flush entries at
+// Random cases for the paper's k-buffer program: stored entries with ties, empty entries (-1, 0), flush entries at
 // 2^60 and +inf, negative and out-of-range scalars; incoming fragments whose distance ties a stored one; framebuffer
 // alphas at, just below and just above the kill's 0.99.
 ArbKBufferCases make_arb_cases(test::CaseRng& g, std::size_t n, const HavsFrameConstants& fc)
@@ -99,17 +99,21 @@ ArbKBufferCases make_arb_cases(test::CaseRng& g, std::size_t n, const HavsFrameC
     for (std::size_t i = 0; i < n; ++i) {
         const glm::vec3 dir = glm::vec3(g.vec(1.0)) + glm::vec3(0.0f, 0.0f, -1.5f);
         c.eye[i] = dir * g.unif(0.05f, 3.0f);
-        c.scalar[i] = g.pick(8) == 0 ? seed_exit_scalar(g.unif(0.0f, 1.0f)) : g.unif(-0.25f, 1.25f);
-        const float incoming = havs_seed_entry(fc, HavsVaryings{c.eye[i], c.scalar[i], kSideInterior}).y;
+        c.scalar[i] = g.pick(8) == 0 ? paper_exit_scalar(g.unif(0.0f, 1.0f)) : g.unif(-0.25f, 1.25f);
+        const float incoming = havs_paper_entry(fc, HavsVaryings{c.eye[i], c.scalar[i], kSideInterior}).y;
         KEntry* a = &c.entries[i * kArbK];
         for (int e = 0; e < kArbK; ++e) {
             switch (g.pick(10)) {
             case 0: a[e] = kEmptyEntry; break;
-            case 1: a[e] = kSeedFlushFragment; break;
+            case 1:
+                a[e] = kPaperFlushFragment;
+                break;
             case 2: a[e] = KEntry{g.unif(-0.25f, 1.25f), std::numeric_limits<float>::infinity()}; break;
             case 3: a[e] = KEntry{g.unif(-0.25f, 1.25f), incoming}; break;                 // a tie with the fragment
             case 4: a[e] = e > 0 ? KEntry{g.unif(-0.25f, 1.25f), a[g.pick(e)].y} : kEmptyEntry; break;  // a tie
-            case 5: a[e] = KEntry{seed_exit_scalar(g.unif(0.0f, 1.0f)), g.unif(0.0f, 5.0f)}; break;
+            case 5:
+                a[e] = KEntry{paper_exit_scalar(g.unif(0.0f, 1.0f)), g.unif(0.0f, 5.0f)};
+                break;
             default: a[e] = KEntry{g.unif(-0.25f, 1.25f), g.unif(0.0f, 5.0f)}; break;
             }
         }
@@ -128,7 +132,7 @@ struct ArbStage {
     LlvmpipeCpu cpu = host_llvmpipe_cpu();
     HavsFrameConstants fc = [this] {
         HavsFrameConstants c;
-        c.seed_entries = true;
+        c.paper_entries = true;
         c.threshold = 0.99f;
         c.length_scale = table.length_scale();
         c.length_bias = table.length_bias();
@@ -140,7 +144,7 @@ struct ArbStage {
 
 }  // namespace
 
-TEST_CASE("the seed's ARB fragment program computes the emulated k-buffer program's bits on 1,048,576 random cases")
+TEST_CASE("the paper's ARB fragment program computes the emulated k-buffer program's bits on 1,048,576 random cases")
 {
     ArbStage st;
     const HavsFrameConstants& fc = st.fc;
@@ -157,7 +161,7 @@ TEST_CASE("the seed's ARB fragment program computes the emulated k-buffer progra
         KEntry a[kArbK];
         std::copy(&cases.entries[i * kArbK], &cases.entries[i * kArbK] + kArbK, a);
         glm::vec4 fb = cases.framebuffer[i];
-        const KEntry a0 = havs_seed_entry(fc, HavsVaryings{cases.eye[i], cases.scalar[i], kSideInterior});
+        const KEntry a0 = havs_paper_entry(fc, HavsVaryings{cases.eye[i], cases.scalar[i], kSideInterior});
         for (const KEntry& e : a) ties += e.y == a0.y ? 1 : 0;
         if (!havs_kbuffer(fc, a0, a, kArbK, fb, shade, nullptr)) ++killed;
         composited += fb != cases.framebuffer[i] ? 1 : 0;
@@ -172,16 +176,16 @@ TEST_CASE("the seed's ARB fragment program computes the emulated k-buffer progra
     CHECK(killed > 10000);
     CHECK(composited > 100000);
     CHECK(ties > 10000);
-    mm.report("the seed's ARB fragment program");
+    mm.report("the paper's ARB fragment program");
 }
 
 namespace {
 
-// `cam` through the three drivers with --entries seed: ARB (with `per_draw` triangles a draw, and a texture barrier
+// `cam` through the three drivers with --entries paper: ARB (with `per_draw` triangles a draw, and a texture barrier
 // after each draw when `barrier`), GLSL and the emulation, bit for bit.
 void require_arb_identical(const Scene& s, const Camera& cam, int width, int height, std::size_t per_draw, bool barrier)
 {
-    const HavsOptions o = seed_options();
+    const HavsOptions o = paper_options();
     const HavsFrame emu = HavsRenderer(s.mesh, s.topo, s.field, s.tf, o).render(cam, width, height);
     const HavsFrame glsl = GlHavsRenderer(test::osmesa(), s.mesh, s.topo, s.field, s.tf, o, false).render(cam, width,
                                                                                                            height);
@@ -206,7 +210,7 @@ void require_arb_identical(const Scene& s, const Camera& cam, int width, int hei
 
 }  // namespace
 
-TEST_CASE("uvr's --backend arb frames equal the GLSL driver's and the emulation's with --entries seed")
+TEST_CASE("uvr's --backend arb frames equal the GLSL driver's and the emulation's with --entries paper")
 {
     SECTION("the built-in torus, one draw and many draws with texture barriers")
     {
@@ -227,10 +231,10 @@ TEST_CASE("uvr's --backend arb frames equal the GLSL driver's and the emulation'
     }
 }
 
-TEST_CASE("the ARB backend refuses what the seed's programs cannot run, naming the option")
+TEST_CASE("the ARB backend refuses what the paper's programs cannot run, naming the option")
 {
     const Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
-    HavsOptions o = seed_options();
+    HavsOptions o = paper_options();
     SECTION("k other than 6")
     {
         o.k = 8;
@@ -240,7 +244,7 @@ TEST_CASE("the ARB backend refuses what the seed's programs cannot run, naming t
     {
         o.entries = EntryEncoding::marked;
         CHECK_THROWS_WITH(ArbHavsRenderer(compat(), s.mesh, s.topo, s.field, s.tf, o),
-                          Catch::Matchers::Contains("--entries seed"));
+                          Catch::Matchers::Contains("--entries paper"));
     }
     SECTION("another kill threshold")
     {
@@ -270,11 +274,11 @@ namespace {
 float lp_fmin(float a, float b) { return std::isnan(b) ? a : (a < b ? a : b); }
 float lp_fmax(float a, float b) { return std::isnan(b) ? a : (a > b ? a : b); }
 
-// The seed's fragment program as Mesa compiles it for llvmpipe (docs/havs-seed-research.md §3): the ARB instructions
+// The paper's fragment program as Mesa compiles it for llvmpipe (docs/havs-arb.md "Compilation"): the ARB instructions
 // are not exact, so NIR turns each SUB + CMP pair's distance channel, bcsel(a < b, a, b) and bcsel(a < b, b, a), into
 // fmin and fmax; the other channels keep the select on a < b. Identical to havs_kbuffer unless a distance is NaN.
-bool seed_program_on_llvmpipe(const HavsFrameConstants& fc, KEntry a0, KEntry* a, glm::vec4& fb,
-                              const SegmentShader& shade)
+bool paper_program_on_llvmpipe(const HavsFrameConstants& fc, KEntry a0, KEntry* a, glm::vec4& fb,
+                               const SegmentShader& shade)
 {
     if (fc.threshold - fb.a < 0.0f) return false;
     KEntry r[kArbK + 1];
@@ -299,7 +303,7 @@ bool seed_program_on_llvmpipe(const HavsFrameConstants& fc, KEntry a0, KEntry* a
 
 }  // namespace
 
-TEST_CASE("the seed's ARB fragment program on special values: differences only at NaN distances, from NIR's fmin/fmax")
+TEST_CASE("the paper's ARB fragment program on special values: differences only at NaN distances, from NIR's fmin/fmax")
 {
     ArbStage st;
     const HavsFrameConstants& fc = st.fc;
@@ -328,9 +332,9 @@ TEST_CASE("the seed's ARB fragment program on special values: differences only a
         glm::vec4 fb = cases.framebuffer[i], fb_model = fb;
         // The point's constant attribute arrives as a0 + 0 x + 0 y: a -0 scalar as +0 (what `+ 0.0f` gives).
         const float received = cases.scalar[i] + 0.0f;
-        const KEntry a0 = havs_seed_entry(fc, HavsVaryings{cases.eye[i], received, kSideInterior});
+        const KEntry a0 = havs_paper_entry(fc, HavsVaryings{cases.eye[i], received, kSideInterior});
         havs_kbuffer(fc, a0, a, kArbK, fb, shade, nullptr);
-        seed_program_on_llvmpipe(fc, a0, m, fb_model, shade);
+        paper_program_on_llvmpipe(fc, a0, m, fb_model, shade);
         bool any_nan = std::isnan(a0.y);
         for (int e = 0; e < kArbK; ++e) any_nan = any_nan || std::isnan(cases.entries[i * kArbK + std::size_t(e)].y);
         nan_cases += any_nan ? 1 : 0;
@@ -355,19 +359,19 @@ TEST_CASE("the seed's ARB fragment program on special values: differences only a
     model.report("the ARB program as NIR's fmin/fmax rewrite predicts it (every case)");
 }
 
-TEST_CASE("uvr render --backend arb writes the seed's frame and reports its entries; misuse is refused")
+TEST_CASE("uvr render --backend arb writes the paper's frame and reports its entries; misuse is refused")
 {
     using test::run_uvr;
     test::TempDir tmp("arb");
-    SECTION("the frame equals --backend emu --entries seed, bit for bit, and the JSON says seed")
+    SECTION("the frame equals --backend emu --entries paper, bit for bit, and the JSON says paper")
     {
         const std::string arb = tmp.file("arb.npy"), emu = tmp.file("emu.npy");
         const auto r = run_uvr("render builtin:torus-small --algo havs --backend arb --size 48x40 --json --out '" +
                                arb + "'");
         INFO(r.err);
         REQUIRE(r.exit_code == 0);
-        CHECK_THAT(r.out, Catch::Contains("\"entries\": \"seed\""));
-        REQUIRE(run_uvr("render builtin:torus-small --algo havs --entries seed --size 48x40 --out '" + emu + "'")
+        CHECK_THAT(r.out, Catch::Contains("\"entries\": \"paper\""));
+        REQUIRE(run_uvr("render builtin:torus-small --algo havs --entries paper --size 48x40 --out '" + emu + "'")
                     .exit_code == 0);
         CHECK(test::file_contents(arb) == test::file_contents(emu));
     }
@@ -388,18 +392,24 @@ TEST_CASE("uvr render --backend arb writes the seed's frame and reports its entr
         CHECK(diag.exit_code != 0);
         CHECK_THAT(diag.err, Catch::Contains("no per-pixel diagnostics"));
     }
-    SECTION("--entries seed without the seed's interpolation or with VTK's gaps, and an unknown encoding")
+    SECTION(
+        "--entries paper without the paper's interpolation or with VTK's gaps, an unknown encoding, the old spelling")
     {
         const std::string out = " --out '" + tmp.file("n.npy") + "'";
-        const auto exact = run_uvr("render builtin:torus-small --algo havs --entries seed --interpolation exact" + out);
+        const auto exact =
+            run_uvr("render builtin:torus-small --algo havs --entries paper --interpolation exact" + out);
         CHECK(exact.exit_code != 0);
-        CHECK_THAT(exact.err, Catch::Contains("--entries seed needs the seed's interpolation"));
-        const auto maxgap = run_uvr("render builtin:torus-small --algo havs --entries seed --gaps maxgap" + out);
+        CHECK_THAT(exact.err, Catch::Contains("--entries paper needs the paper's interpolation"));
+        const auto maxgap = run_uvr("render builtin:torus-small --algo havs --entries paper --gaps maxgap" + out);
         CHECK(maxgap.exit_code != 0);
         CHECK_THAT(maxgap.err, Catch::Contains("no maximum-gap rule"));
         const auto other = run_uvr("render builtin:torus-small --algo havs --entries sided" + out);
         CHECK(other.exit_code != 0);
-        CHECK_THAT(other.err, Catch::Contains("--entries must be marked or seed"));
+        CHECK_THAT(other.err, Catch::Contains("--entries must be marked or paper, not 'sided'"));
+        // The spelling the option had before is refused with the one that replaced it.
+        const auto old = run_uvr("render builtin:torus-small --algo havs --entries seed" + out);
+        CHECK(old.exit_code == 1);
+        CHECK_THAT(old.err, Catch::Contains("--entries seed is now spelled --entries paper"));
         CHECK(!std::filesystem::exists(tmp.file("n.npy")));
     }
 }

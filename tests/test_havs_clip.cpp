@@ -1,5 +1,5 @@
 // The clip stage (gpu/pipeline/clip.h) and HAVS through it: views that cut the mesh at the near plane (a camera inside the mesh,
-// on its boundary) or at the image's sides (a view closer than the mesh's size), issue 10's "a camera inside the
+// on its boundary) or at the image's sides (a view closer than the mesh's size), the "a camera inside the
 // mesh, a camera exactly on a face". The GL side of the same views is in test_havs_gl_frame.cpp.
 #include <cmath>
 #include <cstring>

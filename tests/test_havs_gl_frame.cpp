@@ -1,5 +1,5 @@
-// HAVS on GL (OSMesa, llvmpipe) against the emulation, frame by frame (issue 5's frame-level tests, SPEC §5): the GL
-// frame and the emulated frame must be the same float32 RGBA bits at every pixel, with the same coverage and the
+// HAVS on GL (OSMesa, llvmpipe) against the emulation, frame by frame (the frame-level tests, docs/spec.md §5):
+// the GL frame and the emulated frame must be the same float32 RGBA bits at every pixel, with the same coverage and the
 // same diagnostics.
 #include <cmath>
 #include <cstring>

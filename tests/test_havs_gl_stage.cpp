@@ -1,8 +1,8 @@
-// The HAVS fragment stage in GLSL (shaders/havs_fragment.frag) against its emulation (gpu/havs/havs_fragment.cpp), bit for
-// bit, through the stage harness (gpu/havs/gl_havs_harness.h) under OSMesa (llvmpipe), and the GL context layer's errors.
-// SPEC §5 (stage level): at least a million random inputs per stage, with exact ties, empty and flush entries, +inf
-// distances, zero- and maximum-length segments and alphas at the kill threshold. No OSMesa, no pass: a context that
-// cannot be made fails these tests with the reason (CI installs libosmesa6-dev and libegl-mesa0).
+// The HAVS fragment stage in GLSL (shaders/havs_fragment.frag) against its emulation (gpu/havs/havs_fragment.cpp), bit
+// for bit, through the stage harness (gpu/havs/gl_havs_harness.h) under OSMesa (llvmpipe), and the GL context layer's
+// errors. docs/spec.md §5 (stage level): at least a million random inputs per stage, with exact ties, empty and flush
+// entries, +inf distances, zero- and maximum-length segments and alphas at the kill threshold. No OSMesa, no pass: a
+// context that cannot be made fails these tests with the reason (CI installs libosmesa6-dev and libegl-mesa0).
 #include <bit>
 #include <cmath>
 #include <cstdlib>
@@ -190,7 +190,6 @@ TEST_CASE("GL context: OSMesa gives an OpenGL 4.5 core context and reports llvmp
     CHECK_THAT(info.version, Catch::StartsWith("4.5"));
     CHECK_THAT(info.version, Catch::Contains("Mesa"));
     CHECK_THAT(info.renderer, Catch::Contains("llvmpipe"));
-    CHECK(info.has_extension("GL_ARB_gpu_shader_int64"));
     CHECK(info.max_draw_buffers >= 8);
     CHECK(gl(GlPlatform::osmesa).harness->max_k() >= 12);
 }
@@ -249,7 +248,7 @@ TEST_CASE("havs_kbuffer in GLSL computes the emulation's bits on 1,400,000 rando
         std::size_t n;
         float threshold, max_gap;
     };
-    // Threshold 0.99 (the seed's) and 1 (no early termination); max_gap 0 (no limit) and 0.5 (dyadic, so that
+    // Threshold 0.99 (the paper's) and 1 (no early termination); max_gap 0 (no limit) and 0.5 (dyadic, so that
     // maximum-length segments can be built exactly).
     const Batch batches[] = {{6, 400000, 0.99f, 0.5f}, {6, 200000, 1.0f, 0.0f}, {6, 150000, 0.99f, 0.0f},
                              {1, 150000, 0.99f, 0.5f}, {2, 150000, 0.99f, 0.5f}, {3, 100000, 1.0f, 0.5f},
@@ -340,9 +339,9 @@ TEST_CASE("havs_fragment_entry in GLSL computes the emulation's bits on 1,200,00
     mm_double.report("havs_fragment_values (double)");
 }
 
-TEST_CASE("havs_seed_entry in GLSL computes the emulation's bits on 1,000,000 random varyings")
+TEST_CASE("havs_paper_entry in GLSL computes the emulation's bits on 1,000,000 random varyings")
 {
-    // --interpolation gpu: the seed's DP3/RSQ/MUL distance (or -z, orthographic), the clamped scalar's encoding and
+    // --interpolation gpu: the paper's DP3/RSQ/MUL distance (or -z, orthographic), the clamped scalar's encoding and
     // the outside mark from the corner weights, on varyings of every magnitude: a distance whose square underflows
     // (flushed: 0, then 0 * inf = NaN) or overflows, a zero eye position, scalars outside [0, 1] and NaN, corner
     // weights of -0 and exactly 0, all three sides.
@@ -368,12 +367,12 @@ TEST_CASE("havs_seed_entry in GLSL computes the emulation's bits on 1,000,000 ra
                 corners[i][c] = ck == 0 ? -0.0f : ck == 1 ? 0.0f : g.unif(-0.2f, 1.2f);
             }
         }
-        const std::vector<glm::vec4> r = h.run_seed(fc, v, corners);
+        const std::vector<glm::vec4> r = h.run_paper(fc, v, corners);
         const FlushDenormals llvmpipe_mxcsr;
         for (std::size_t i = 0; i < v.size(); ++i) {
             HavsVaryings vi = v[i];
-            vi.side = havs_seed_side(v[i].side, corners[i]);
-            const KEntry e = havs_seed_entry(fc, vi);
+            vi.side = havs_paper_side(v[i].side, corners[i]);
+            const KEntry e = havs_paper_entry(fc, vi);
             mm.check(e.x, r[i].x, i, "entry x");
             mm.check(e.y, r[i].y, i, "entry distance");
             mm.check(vi.side, r[i].z, i, "side");
@@ -386,7 +385,7 @@ TEST_CASE("havs_seed_entry in GLSL computes the emulation's bits on 1,000,000 ra
     CHECK(cases_total >= 1000000);
     CHECK(nan_distance > 10000);
     CHECK(outside > 50000);
-    mm.report("havs_seed_entry");
+    mm.report("havs_paper_entry");
 }
 
 #if defined(__x86_64__)
@@ -395,9 +394,9 @@ TEST_CASE("denormals: llvmpipe flushes them (DAZ and FTZ), and so does the emula
     // llvmpipe runs shaders with the x86 MXCSR's denormals-are-zero and flush-to-zero bits set, whatever the thread
     // (LP_NUM_THREADS 0, 1, 2 alike). With gradual underflow the emulation would differ on colours with denormals and
     // on compositing that underflows ("as is" below, asserted to differ, so that a Mesa that stops flushing is
-    // noticed); under FlushDenormals (gpu/pipeline/denormals.h), which the emulated driver sets around its fragment stage, it
-    // computes the GL bits exactly. Denormal distances differ even then (llvmpipe also flushes some distances the
-    // program only moves); the entry stage never produces them. docs/gl-backend.md.
+    // noticed); under FlushDenormals (gpu/pipeline/denormals.h), which the emulated driver sets around its fragment
+    // stage, it computes the GL bits exactly. Denormal distances differ even then (llvmpipe also flushes some distances
+    // the program only moves); the entry stage never produces them. docs/gl-backend.md.
     GlHavsFragmentHarness& h = *gl(GlPlatform::osmesa).harness;
     std::mt19937_64 rng(300);
     auto uni = [&](float a, float b) { return std::uniform_real_distribution<float>(a, b)(rng); };

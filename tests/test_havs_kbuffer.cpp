@@ -1,4 +1,4 @@
-// The k-buffer fragment program (seed 000, Appendix II) on hand-made inputs, one behaviour per case.
+// The k-buffer fragment program (the HAVS paper, Appendix II) on hand-made inputs, one behaviour per case.
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -106,7 +106,7 @@ TEST_CASE("the nearest entry is composited with the second nearest, and the rest
     CHECK(rec.calls[0].u_front == Approx(0.2f));
     CHECK(rec.calls[0].u_back == Approx(0.4f));
     CHECK(rec.calls[0].length == 2.0f);
-    CHECK(rec.calls[0].t_z == 2.0f * 0.5f + 0.125f);  // the seed's scale and bias
+    CHECK(rec.calls[0].t_z == 2.0f * 0.5f + 0.125f);  // the paper's scale and bias
     std::vector<float> kept;
     for (const KEntry& e : buf) kept.push_back(e.y);
     std::sort(kept.begin(), kept.end());
@@ -247,7 +247,7 @@ TEST_CASE("an extrapolated scalar below 0 keeps its fragment's kind: clamped to 
 
     SECTION("the k-buffer reads the extrapolated fragment's scalar as 0")
     {
-        // Issue 23's reproducer: stored {1.5, 1}, k = 1, the extrapolated fragment behind it.
+        // The reproducer: stored {1.5, 1}, k = 1, the extrapolated fragment behind it.
         Recorder rec;
         std::vector<KEntry> buf{frag(0.5f, 1.0f)};
         glm::vec4 fb(0.0f);
@@ -303,9 +303,9 @@ TEST_CASE("fragment values: the snapped weights are the exact integer edge funct
     CHECK(got.x == expected);
 }
 
-TEST_CASE("the program for the seed's k with the table's direct path computes the run-time program's bits")
+TEST_CASE("the program for the paper's k with the table's direct path computes the run-time program's bits")
 {
-    // The emulated frame runs kbuffer_program::run<kSeedK, TableSegmentShader> (chains unrolled, the sample called
+    // The emulated frame runs kbuffer_program::run<kPaperK, TableSegmentShader> (chains unrolled, the sample called
     // directly); havs_kbuffer, which the GL stage tests hold to GLSL's bits, is the run-time instance through
     // std::function. Both on the same random cases (ties, kills at the threshold, empty and flush entries, +inf, and
     // NaN distances), every output compared bit for bit.
@@ -317,7 +317,7 @@ TEST_CASE("the program for the seed's k with the table's direct path computes th
     REQUIRE(direct.has_value() == host_has_fma());
     if (!direct) return;
     const SegmentShader through_function = segment_shader(&table, TextureFilter::linear, integrator, Range{0.0, 1.0});
-    constexpr int k = kbuffer_program::kSeedK;
+    constexpr int k = kbuffer_program::kPaperK;
     constexpr std::size_t kCases = std::size_t(1) << 18;  // per section; four sections: a million in all
 
     const auto compare = [&](HavsFrameConstants fc, uint64_t seed) {
@@ -353,7 +353,7 @@ TEST_CASE("the program for the seed's k with the table's direct path computes th
         INFO(written << " of " << cs.size() << " cases written");
         CHECK(written > cs.size() / 2);
         CHECK(written < cs.size());
-        mm.report("run<kSeedK> against havs_kbuffer");
+        mm.report("run<kPaperK> against havs_kbuffer");
     };
     HavsFrameConstants fc;
     fc.threshold = 0.99f;
@@ -363,9 +363,9 @@ TEST_CASE("the program for the seed's k with the table's direct path computes th
         fc.max_gap = 0.5f;
         compare(fc, 501);
     }
-    SECTION("the seed's entries")
+    SECTION("the paper's entries")
     {
-        fc.seed_entries = true;
+        fc.paper_entries = true;
         compare(fc, 502);
     }
     SECTION("no opacity kill")

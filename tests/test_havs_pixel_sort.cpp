@@ -31,22 +31,22 @@ using test::shade_of;
 struct StreamGen : test::CaseRng {
     explicit StreamGen(uint64_t seed) : CaseRng(seed) {}
 
-    std::vector<KEntry> stream(int n, bool odd, bool seed_entries)
+    std::vector<KEntry> stream(int n, bool odd, bool paper_entries)
     {
         std::vector<float> distances(std::size_t(1 + pick(n)));
         for (float& d : distances) d = unif(0.5f, 20.0f);
         std::vector<KEntry> e(static_cast<std::size_t>(n));
         for (KEntry& x : e) {
             const float s = pick(8) == 0 ? float(pick(2)) : unif(0.0f, 1.0f);
-            if (seed_entries) {
-                x.x = pick(4) == 0 ? seed_exit_scalar(s) : s;
+            if (paper_entries) {
+                x.x = pick(4) == 0 ? paper_exit_scalar(s) : s;
             } else {
                 const float sides[4] = {kSideExit, kSideInterior, kSideOutside, kSideEntry};
                 x.x = sides[pick(4)] * (1.0f + s);
             }
             x.y = distances[std::size_t(pick(int(distances.size())))];
             if (odd && pick(40) == 0) {
-                const float flush = seed_entries ? kSeedFlushFragment.y : kFlushFragment.y;
+                const float flush = paper_entries ? kPaperFlushFragment.y : kFlushFragment.y;
                 const float odd_values[5] = {std::nanf(""), INFINITY, 0.0f, 1e-40f, std::nextafter(flush, INFINITY)};
                 x.y = odd_values[pick(5)];
             }
@@ -67,7 +67,7 @@ void program(const HavsFrameConstants& fc, const std::vector<KEntry>& stream, in
 
 // Streams on every pixel of one 64 x 64 tile through PixelSortTile, each against the program at k = its length
 // and at k = its length + `extra`. Returns how many pixels had a tie.
-uint64_t check_tile(StreamGen& g, bool odd, bool seed_entries, int extra)
+uint64_t check_tile(StreamGen& g, bool odd, bool paper_entries, int extra)
 {
     const FlushDenormals llvmpipe_mxcsr;  // as the frame's tiles run
     constexpr int kSide = ScreenTiles::kTile;
@@ -76,9 +76,9 @@ uint64_t check_tile(StreamGen& g, bool odd, bool seed_entries, int extra)
     fc.max_gap = g.pick(3) == 0 ? g.unif(0.5f, 5.0f) : 0.0f;
     fc.length_scale = 0.05f;
     fc.length_bias = 0.5f / 128.0f;
-    fc.seed_entries = seed_entries;
+    fc.paper_entries = paper_entries;
     std::vector<std::vector<KEntry>> streams(kSide * kSide);
-    for (auto& s : streams) s = g.pick(8) == 0 ? std::vector<KEntry>{} : g.stream(1 + g.pick(40), odd, seed_entries);
+    for (auto& s : streams) s = g.pick(8) == 0 ? std::vector<KEntry>{} : g.stream(1 + g.pick(40), odd, paper_entries);
     std::vector<glm::vec4> fb(streams.size(), glm::vec4(0.0f));
     std::vector<KBufferDiagnostics> diag(streams.size());
     const SegmentShader shade = shade_of;
@@ -106,7 +106,7 @@ uint64_t check_tile(StreamGen& g, bool odd, bool seed_entries, int extra)
             glm::vec4 fb_program(0.0f);
             KBufferDiagnostics d_program;
             if (n > 0) program(fc, streams[p], k, fb_program, d_program);
-            INFO("pixel " << p << ", " << n << " fragments, k " << k << (seed_entries ? ", seed entries" : "")
+            INFO("pixel " << p << ", " << n << " fragments, k " << k << (paper_entries ? ", seed entries" : "")
                           << ": alpha " << fb_program.a << " by the program, " << fb[p].a << " sorted");
             REQUIRE(same_bits(fb_program, fb[p]));
             REQUIRE(d_program.fragments == diag[p].fragments);
@@ -143,7 +143,7 @@ TEST_CASE("k all: each pixel's sorted fragments give the program's bits at k = n
     {
         for (int t = 0; t < 6; ++t) ties += check_tile(g, false, false, 1 + g.pick(20));
     }
-    SECTION("the seed's entries")
+    SECTION("the paper's entries")
     {
         for (int t = 0; t < 6; ++t) ties += check_tile(g, false, true, 1 + g.pick(20));
     }
@@ -161,7 +161,7 @@ TEST_CASE("k all: a pixel with a distance outside the sorted path's range runs t
 
 TEST_CASE("k all: frames equal a k above the fullest pixel, images and diagnostics")
 {
-    SECTION("the torus, the seed's pipeline, the table, early termination")
+    SECTION("the torus, the paper's pipeline, the table, early termination")
     {
         const test::Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
         check_frame(s, default_camera(mesh_bounds(s.mesh), 1.0, 30.0, 20.0), HavsOptions{}, 96);
@@ -174,11 +174,11 @@ TEST_CASE("k all: frames equal a k above the fullest pixel, images and diagnosti
         o.interpolation = InterpolationMode::exact;
         check_frame(s, default_camera(mesh_bounds(s.mesh), 1.0, 30.0, 20.0), o, 96);
     }
-    SECTION("the torus, the seed's entries")
+    SECTION("the torus, the paper's entries")
     {
         const test::Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
         HavsOptions o;
-        o.entries = EntryEncoding::seed;
+        o.entries = EntryEncoding::paper;
         check_frame(s, default_camera(mesh_bounds(s.mesh), 1.0, 120.0, -30.0), o, 96);
     }
     SECTION("Blunt Fin, exact segments")
@@ -192,10 +192,10 @@ TEST_CASE("k all with --ties facing: the Oxygen Post's seam crossed by the cell 
 {
     // The Oxygen Post's O-grid seam: coincident faces from either side whose points carry two scalars
     // (docs/data-model.md, docs/havs.md "k = all"). With every switch exact, the k-buffer's order at one distance
-    // (arrival) leaves pixels along the seam above SPEC §6's bar; back faces first (facing) removes most of them. What
-    // remains are the seam's near ties (its two sides cut each quadrilateral along different diagonals, so their
-    // fragments differ by an ulp or more), which no order at one distance reaches.
-    constexpr double kExactMax = 2e-6;  // SPEC §6's bar (bench/budget.h's kBudgetBaselineMax)
+    // (arrival) leaves pixels along the seam above docs/spec.md §6's bar; back faces first (facing) removes most of
+    // them. What remains are the seam's near ties (its two sides cut each quadrilateral along different diagonals, so
+    // their fragments differ by an ulp or more), which no order at one distance reaches.
+    constexpr double kExactMax = 2e-6;  // docs/spec.md §6's bar (bench/budget.h's kBudgetBaselineMax)
     const test::Scene s = test::oxygen_post();
     const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 120.0, 30.0);
     HavsOptions o = test::exact_havs_options(kEveryFragment);

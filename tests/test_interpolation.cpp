@@ -1,7 +1,7 @@
 // The interpolation stage (gpu/pipeline/interpolation.h) against llvmpipe, bit for bit: random triangles drawn by the
 // GL harness (gpu/gl/gl_interpolation_harness.h), each pixel's `smooth`, `noperspective` and `flat` varyings and
 // gl_FragCoord.w compared with the emulation's, over more than a million (triangle, pixel) cases: triangles far from
-// the framebuffer's origin, slivers, tiny and large w, both facings, values of every magnitude (SPEC §7).
+// the framebuffer's origin, slivers, tiny and large w, both facings, values of every magnitude (docs/spec.md §7).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -220,7 +220,7 @@ void compare(const InterpolationImages& emu, const InterpolationImages& glv, con
     (void)tris;
 }
 
-// More than a million (triangle, pixel) cases in all (SPEC §7 asks for a million).
+// More than a million (triangle, pixel) cases in all (docs/spec.md §7 asks for a million).
 constexpr uint64_t kMinCases = 1000000;
 
 void check_platform(GlPlatform platform)

@@ -1,5 +1,5 @@
-// Pre-integration tables (gpu/pipeline/preintegration_table.h): the 3D table's texels against the exact segment integral,
-// its coordinate conventions, its error in table mode as the resolution grows, and Moreland's Ψ table.
+// Pre-integration tables (gpu/pipeline/preintegration_table.h): the 3D table's texels against the exact segment
+// integral, its coordinate conventions, its error in table mode as the resolution grows, and Moreland's Ψ table.
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -41,7 +41,7 @@ double half_quantum(TexelFormat f)
 
 // A float32 texel is the double integral rounded once: half an ulp, 2^-24 of its value.
 constexpr double kHalfFloatUlp = 0x1p-24;
-// The closed-form integral that the texels round against the quadrature: issue 3's bar (kOracleTolerance of
+// The closed-form integral that the texels round against the quadrature: the bar (kOracleTolerance of
 // tests/test_segment_integral.cpp, 1e-10 absolute).
 constexpr double kClosedFormTolerance = 1e-10;
 
@@ -61,9 +61,9 @@ struct ErrorStats {
 
 TEST_CASE("table texels hold the segment integral at their centres, by an independent quadrature")
 {
-    // The texels against the long-double quadrature of SPEC §1's integrals (tests/quadrature_oracle.h), which shares
-    // nothing with the segment integrator that builds the table: a wrong integrator makes a wrong table, and this
-    // test sees it.
+    // The texels against the long-double quadrature of docs/spec.md §1's integrals (tests/quadrature_oracle.h), which
+    // shares nothing with the segment integrator that builds the table: a wrong integrator makes a wrong table, and
+    // this test sees it.
     const TransferFunction tf = test_tf();
     const SegmentIntegrator seg(tf);
     for (TexelFormat f : {TexelFormat::f32, TexelFormat::u16, TexelFormat::u8}) {

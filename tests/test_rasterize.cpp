@@ -1,5 +1,5 @@
-// llvmpipe's rasterization rules (gpu/pipeline/rasterize.h): snapping, the fill rule, culling, framebuffer clipping, closed
-// surfaces, and triangles whose coverage was recorded from a real OSMesa run (Mesa 22.3.6).
+// llvmpipe's rasterization rules (gpu/pipeline/rasterize.h): snapping, the fill rule, culling, framebuffer clipping,
+// closed surfaces, and triangles whose coverage was recorded from a real OSMesa run (Mesa 22.3.6).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -76,7 +76,7 @@ std::vector<int> pixels_reference(const WindowCoord v[3], const Framebuffer& fb)
     return p;
 }
 
-// A GL-style perspective projection of SPEC §2's default camera: eye space from the camera frame (x = r, y = u,
+// A GL-style perspective projection of docs/spec.md §2's default camera: eye space from the camera frame (x = r, y = u,
 // looking down -z), a symmetric frustum with fovy and the framebuffer's aspect, near and far planes around the
 // bounding sphere, then llvmpipe's viewport transform. Every mesh point is projected once, so shared vertices are
 // bit-identical, as they are for GL.
@@ -597,7 +597,8 @@ TEST_CASE("Front faces of a convex mesh cover each pixel inside its silhouette e
                     } else if (d < -0.01 && front[k] != 0) {
                         ++wrong;
                     }
-                    // GL row y is SPEC row height - 1 - y: the SPEC ray through that pixel hits the box iff covered.
+                    // GL row y is image row height - 1 - y: the ray of docs/spec.md §2 through that pixel hits the box
+                    // iff covered.
                     if (std::fabs(d) > 0.05 &&
                         ray_hits_box(camera_ray(cam, fb.width, fb.height, x, spec_row(y, fb.height)), b.lo, b.hi) !=
                             (front[k] == 1))

@@ -1,4 +1,4 @@
-// The ray caster's emulation (gpu/raycast*, issue 7) against the regular-grid reference and against closed forms: the
+// The ray caster's emulation (gpu/raycast*) against the regular-grid reference and against closed forms: the
 // error shrinks with the step on the shared data sets, a constant volume gives Beer-Lambert, and the rays that are
 // hard for a ray caster (grazing the box, a volume one sample thick, a camera inside) give finite images and stop.
 #include <cmath>
@@ -16,9 +16,9 @@ using test::grid;
 
 namespace {
 
-// A first-order method (a left Riemann sum of the optical model, SPEC §1) halves its error when the step halves; the
-// data sets' measured ratios are 0.34 to 0.53 (docs/raycast.md). 0.75 asks for a clear decrease without demanding the
-// asymptotic rate at the coarse steps the test can afford.
+// A first-order method (a left Riemann sum of the optical model, docs/spec.md §1) halves its error when the step
+// halves; the data sets' measured ratios are 0.34 to 0.53 (docs/raycast.md). 0.75 asks for a clear decrease without
+// demanding the asymptotic rate at the coarse steps the test can afford.
 constexpr double kStepHalvingRatio = 0.75;
 
 // Float32 march of a few hundred samples: each composite rounds at ~6e-8 relative; 1e-5 bounds the sum with room,
@@ -155,7 +155,7 @@ TEST_CASE("ray caster survives grazing rays, a volume one sample thick and a cam
             CHECK(f.stats.rays == 25u);  // x, y in {0 .. 4}
             CHECK(measure_errors(f.image, ref).max_abs < kFirstOrderAtStep);
         }
-        SECTION("the seed's passes: the rasterizer's fill rule")
+        SECTION("the published passes: the rasterizer's fill rule")
         {
             // The box's faces are rasterized: a pixel centre on the left or bottom edge of the silhouette is covered,
             // one on the right or top edge is not. So x, y in {0 .. 3}: 16 rays, and the 9 rays in the right and top
@@ -184,13 +184,13 @@ TEST_CASE("ray caster survives grazing rays, a volume one sample thick and a cam
             REQUIRE(test::all_finite(exact.image));
             CHECK(exact.stats.samples == 0);
             CHECK(measure_errors(exact.image, reference(flat, tf, cam, 24, 24)).max_abs == 0.0);
-            // The seed's passes: the front and back faces coincide, and their interpolated entry and exit differ by
-            // float rounding, so a ray of that length takes its one sample, which stands for a full step (the seed's
+            // The published passes: the front and back faces coincide, and their interpolated entry and exit differ by
+            // float rounding, so a ray of that length takes its one sample, which stands for a full step (the published
             // march samples before it tests the exit): no more than one sample a pixel, and finite.
-            const RaycastFrame seed = RaycastRenderer(flat, tf, options(0.5)).render(cam, 24, 24);
-            REQUIRE(test::all_finite(seed.image));
-            CHECK(seed.stats.max_samples <= 1u);
-            CHECK(seed.stats.overlaps == 0u);
+            const RaycastFrame published = RaycastRenderer(flat, tf, options(0.5)).render(cam, 24, 24);
+            REQUIRE(test::all_finite(published.image));
+            CHECK(published.stats.max_samples <= 1u);
+            CHECK(published.stats.overlaps == 0u);
         }
     }
     SECTION("a camera inside the volume")

@@ -1,12 +1,13 @@
 // The ray caster's fragment program in GLSL (shaders/raycast_fragment.frag) against its emulation
-// (gpu/raycast/raycast_fragment.cpp), bit for bit, through the ray caster's stage harness (gpu/raycast/gl_raycast_harness.h) under
-// OSMesa (llvmpipe). SPEC §5 (stage level): a million random inputs for each part of the program:
+// (gpu/raycast/raycast_fragment.cpp), bit for bit, through the ray caster's stage harness
+// (gpu/raycast/gl_raycast_harness.h) under OSMesa (llvmpipe). docs/spec.md §5 (stage level): a million random inputs
+// for each part of the program:
 //   - the ray (double): random cameras and boxes, rays along the box's faces and parallel to its planes, eyes inside
 //     and on a face, flat boxes, steps that hit the sample cap; every double compared before its rounding to float;
 //   - the march (float): rays of real frames and made-up ones (entries outside the texture, last segments of no
 //     length), three texel formats, both classifications, shading, thresholds at 1 and below;
 //   - the lighting (double): zero and denormal gradients, a light at the sample, a half vector of zero length;
-//   - the seed's ray (float, then double): entry and exit texels equal, along one axis, ulps apart, unwritten.
+//   - the published ray (float, then double): entry and exit texels equal, along one axis, ulps apart, unwritten.
 // The emulation runs with denormals flushed, as llvmpipe runs shaders and as the emulated driver runs.
 #include <cmath>
 #include <memory>
@@ -313,11 +314,11 @@ void compare_light(const RaycastFrameConstants& fc, const std::vector<RaycastLig
     }
 }
 
-// ---- the seed's ray (raycast_ray_seed) ----
+// ---- the published ray (raycast_ray_published) ----
 
-// A frame's constants for raycast_ray_seed: the box's extent per texture unit, the step, the sample cap, and the box
-// (for shading's entry).
-RaycastFrameConstants random_seed_frame(Rng& r)
+// A frame's constants for raycast_ray_published: the box's extent per texture unit, the step, the sample cap, and the
+// box (for shading's entry).
+RaycastFrameConstants random_published_frame(Rng& r)
 {
     RaycastFrameConstants fc;
     const glm::dvec3 dims(1 + r.pick(300), 1 + r.pick(300), 1 + r.pick(300));
@@ -342,13 +343,13 @@ RaycastFrameConstants random_seed_frame(Rng& r)
     return fc;
 }
 
-struct SeedRayTally {
+struct PublishedRayTally {
     uint64_t rays = 0, unwritten = 0, zero_length = 0, capped = 0, one_axis = 0;
 };
 
 // `count` entry and exit pairs as the box passes could write them: texture coordinates in and around [0, 1], an
 // exit equal to the entry, differing in one component only or by a few ulps, and unwritten texels (alpha 0).
-std::vector<glm::vec4> seed_texels(Rng& r, std::size_t count)
+std::vector<glm::vec4> published_texels(Rng& r, std::size_t count)
 {
     std::vector<glm::vec4> t(2 * count);
     for (std::size_t i = 0; i < count; ++i) {
@@ -375,14 +376,14 @@ std::vector<glm::vec4> seed_texels(Rng& r, std::size_t count)
     return t;
 }
 
-void compare_seed_rays(const RaycastFrameConstants& fc, const std::vector<glm::vec4>& texels,
-                       const std::vector<RaycastRay>& g, std::size_t base, Mismatches& mm, SeedRayTally& t)
+void compare_published_rays(const RaycastFrameConstants& fc, const std::vector<glm::vec4>& texels,
+                            const std::vector<RaycastRay>& g, std::size_t base, Mismatches& mm, PublishedRayTally& t)
 {
     const FlushDenormals as_the_renderer_runs;
     for (std::size_t i = 0; i < g.size(); ++i) {
         const glm::vec4& f = texels[2 * i];
         const glm::vec4& b = texels[2 * i + 1];
-        const RaycastRay e = raycast_ray_seed(fc, f, b);
+        const RaycastRay e = raycast_ray_published(fc, f, b);
         ++t.rays;
         t.unwritten += f.w == 0.0f || b.w == 0.0f ? 1 : 0;
         t.zero_length += f.w != 0.0f && b.w != 0.0f && e.samples == 0 ? 1 : 0;
@@ -404,18 +405,18 @@ void compare_seed_rays(const RaycastFrameConstants& fc, const std::vector<glm::v
 
 }  // namespace
 
-TEST_CASE("the seed's ray in GLSL computes the emulation's bits from 1,048,576 entry and exit pairs")
+TEST_CASE("the published ray in GLSL computes the emulation's bits from 1,048,576 entry and exit pairs")
 {
     GlRaycastHarness& h = *gl(GlPlatform::osmesa).harness;
     Rng r(110);
     Mismatches mm;
-    SeedRayTally t;
+    PublishedRayTally t;
     constexpr int kFrames = 64;
     constexpr std::size_t kPairs = 16384;
     for (int f = 0; f < kFrames; ++f) {
-        const RaycastFrameConstants fc = random_seed_frame(r);
-        const std::vector<glm::vec4> texels = seed_texels(r, kPairs);
-        compare_seed_rays(fc, texels, h.run_ray_seed(fc, texels), std::size_t(f) * kPairs, mm, t);
+        const RaycastFrameConstants fc = random_published_frame(r);
+        const std::vector<glm::vec4> texels = published_texels(r, kPairs);
+        compare_published_rays(fc, texels, h.run_ray_published(fc, texels), std::size_t(f) * kPairs, mm, t);
     }
     INFO(t.rays << " pairs: " << t.unwritten << " with a texel unwritten, " << t.zero_length
                 << " of no length, " << t.capped << " capped, " << t.one_axis << " along one axis");
@@ -424,7 +425,7 @@ TEST_CASE("the seed's ray in GLSL computes the emulation's bits from 1,048,576 e
     CHECK(t.zero_length > 50000);
     CHECK(t.capped > 50000);
     CHECK(t.one_axis > 50000);
-    mm.report("raycast_ray_seed");
+    mm.report("raycast_ray_published");
 }
 
 TEST_CASE("the ray caster's ray in GLSL computes the emulation's doubles at 1,048,576 pixels of random frames")
@@ -544,9 +545,9 @@ TEST_CASE("EGL: the ray caster's stages compute the same bits through the surfac
     const RaycastFrameConstants fc = random_light_frame(r);
     const std::vector<RaycastLightCase> cs = light_cases(r, fc, 50000);
     compare_light(fc, cs, e.harness->run_light(fc, cs), mm, lt);
-    SeedRayTally st;
-    const RaycastFrameConstants sfc = random_seed_frame(r);
-    const std::vector<glm::vec4> texels = seed_texels(r, 50000);
-    compare_seed_rays(sfc, texels, e.harness->run_ray_seed(sfc, texels), 0, mm, st);
-    mm.report("EGL: raycast_ray_exact, raycast_march, raycast_light_factors, raycast_ray_seed");
+    PublishedRayTally st;
+    const RaycastFrameConstants sfc = random_published_frame(r);
+    const std::vector<glm::vec4> texels = published_texels(r, 50000);
+    compare_published_rays(sfc, texels, e.harness->run_ray_published(sfc, texels), 0, mm, st);
+    mm.report("EGL: raycast_ray_exact, raycast_march, raycast_light_factors, raycast_ray_published");
 }

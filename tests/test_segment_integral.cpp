@@ -13,7 +13,7 @@ using uvr::test::Real;
 
 namespace {
 
-// Issue 3's bar: the closed form and the oracle agree to 1e-10 absolute on every channel.
+// The bar: the closed form and the oracle agree to 1e-10 absolute on every channel.
 constexpr double kOracleTolerance = 1e-10;
 // erfcx and Dawson against long-double references: a few ulps of the evaluation plus the rounding of the argument
 // handling; 1e-14 relative is ~50 ulps.
@@ -103,12 +103,17 @@ TEST_CASE("splitting a segment in two and compositing the halves gives the whole
     for (int k = 0; k < 4; ++k) CHECK(std::fabs(whole[k] - two[k]) <= kAnalyticTolerance);
 }
 
-TEST_CASE("the closed form agrees with the quadrature oracle on a million random segments")
+TEST_CASE("the closed form agrees with the quadrature oracle on 200,000 random segments across every regime")
 {
     std::mt19937_64 rng(20261121);
     std::uniform_real_distribution<double> U(0.0, 1.0);
     auto pick = [&](std::initializer_list<double> v) { return *(v.begin() + std::size_t(U(rng) * v.size())); };
-    const int kTransferFunctions = 2000, kSegmentsEach = 500;  // 1,000,000 segments
+    // The regimes are 6 extinction scales x 7 segment lengths x 3 kinds of scalar pair (equal, nearly equal, any):
+    // 126, each drawn about 1,600 times here across 800 random transfer functions (jumps, zero and constant
+    // extinction among them). The largest difference is 5.1e-15 here and 2.3e-14 on a million segments (the size
+    // this test had): both four orders below kOracleTolerance, so the million found nothing the bar can see, at five
+    // times the cost (150-190 s, the heaviest test of the suite).
+    const int kTransferFunctions = 800, kSegmentsEach = 250;  // 200,000 segments
     double worst = 0.0;
     for (int f = 0; f < kTransferFunctions; ++f) {
         TransferFunction tf;

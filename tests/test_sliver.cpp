@@ -1,4 +1,4 @@
-// Issue 10's degenerate geometry: a conforming mesh holding a tetrahedron of 1e-12 relative volume (a sliver between two
+// The degenerate geometry: a conforming mesh holding a tetrahedron of 1e-12 relative volume (a sliver between two
 // layers of cells) and coplanar faces. Every algorithm that renders tetrahedral meshes gives a finite image; the
 // reference stays watertight against the analytic chord (the mesh is a convex bipyramid, so Beer-Lambert along each
 // ray's chord through it is the expected value), and HAVS and VICP with exact segments equal the reference.

@@ -82,11 +82,13 @@ struct CommandResult {
 };
 
 // Runs the `uvr` program with `args` (shell-quoted by the caller), capturing stdout and stderr separately.
-inline CommandResult run_uvr(const std::string& args)
+// `env`: variable assignments for this run only ("NAME=value ...", as a shell takes them before a command).
+inline CommandResult run_uvr(const std::string& args, const std::string& env = "")
 {
     TempDir tmp("run");
     const std::string out = tmp.file("stdout"), err = tmp.file("stderr");
-    const std::string cmd = std::string("'") + UVR_BINARY + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
+    const std::string cmd =
+        env + (env.empty() ? "" : " ") + "'" + UVR_BINARY + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
     const int status = std::system(cmd.c_str());
     CommandResult r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);

@@ -1,4 +1,4 @@
-// Transfer-function files (SPEC §1) and their evaluation.
+// Transfer-function files (docs/spec.md §1) and their evaluation.
 #include <cmath>
 
 #include "reference/transfer_function.h"

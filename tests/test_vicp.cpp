@@ -1,4 +1,4 @@
-// VICP emulated against the ground truth (issue 6): the exact configuration equals the reference, the centroid
+// VICP emulated against the ground truth: the exact configuration equals the reference, the centroid
 // order's error is measured, degenerate geometry gives finite, complete images, and visibility cycles are reported.
 #include <cmath>
 #include <cstring>
@@ -25,7 +25,8 @@ VicpOptions exact_options(CellOrder order)
     o.order = order;
     o.segment = SegmentMode::exact;
     o.threshold = 1.0f;
-    o.interpolation = InterpolationMode::exact;  // the variant these bars hold for (the seed's: test_vicp_seed.cpp)
+    o.interpolation =
+        InterpolationMode::exact;  // the variant these bars hold for (the published: test_vicp_published.cpp)
     return o;
 }
 

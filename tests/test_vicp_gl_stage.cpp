@@ -1,8 +1,8 @@
 // VICP's vertex and fragment programs in GLSL (shaders/vicp_vertex.vert, shaders/vicp_fragment.frag) against their
 // emulations (gpu/vicp/vicp_vertex.cpp, gpu/vicp/vicp_fragment.cpp), bit for bit, through the VICP stage harness
-// (gpu/vicp/gl_vicp_harness.h) under OSMesa (llvmpipe). SPEC §5 (stage level): at least a million random inputs per
-// stage, with exact ties, zero-length segments, opacities at the kill threshold, flat and sliver cells, faces the ray
-// runs along. The emulation runs with denormals flushed, as llvmpipe runs shaders and as the emulated driver runs.
+// (gpu/vicp/gl_vicp_harness.h) under OSMesa (llvmpipe). docs/spec.md §5 (stage level): at least a million random inputs
+// per stage, with exact ties, zero-length segments, opacities at the kill threshold, flat and sliver cells, faces the
+// ray runs along. The emulation runs with denormals flushed, as llvmpipe runs shaders and as the emulated driver runs.
 #include <cmath>
 #include <memory>
 #include <random>

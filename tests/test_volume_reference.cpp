@@ -1,6 +1,6 @@
-// The ground truth for regular grids (reference/volume_integrator, issue 7) against what is known without it: Beer-
+// The ground truth for regular grids (reference/volume_integrator) against what is known without it: Beer-
 // Lambert's closed form in a constant volume, the tetrahedral reference on the same grid split into tetrahedra where
-// the trilinear field is linear, and nested long-double quadrature of SPEC §1's definitions where it is not.
+// the trilinear field is linear, and nested long-double quadrature of docs/spec.md §1's definitions where it is not.
 #include <cmath>
 #include <random>
 
@@ -21,7 +21,7 @@ namespace {
 
 // Agreement of two integrations of one ray in double: the quadrature's bar (kVolumeQuadratureTolerance, 1e-10) plus
 // the rounding of a few hundred composited pieces (~1e-14 each) and of the tetrahedral reference's closed forms
-// (~1e-15 each). Issue 7 asks for 1e-9; anything skipped or doubled (a lost cell, a piece counted twice) costs
+// (~1e-15 each). The bar is 1e-9; anything skipped or doubled (a lost cell, a piece counted twice) costs
 // orders of magnitude more.
 constexpr double kRayTolerance = 1e-9;
 
@@ -124,9 +124,9 @@ TEST_CASE("a linear field on a grid gives the tetrahedral reference's integral o
 TEST_CASE("a trilinear field: the cubic along the ray integrates as quadrature of the definitions does")
 {
     // One cell with random corner values: along a ray the scalar is a true cubic. The oracle evaluates the trilinear
-    // interpolation itself at each point and integrates SPEC §1's definitions in long double, sharing nothing with the
-    // integrator but the transfer function: the ray is cut where the scalar crosses a breakpoint (found by dense
-    // sampling and bisection), and on each smooth piece C = integral of c tau exp(-T) by composite 20-point
+    // interpolation itself at each point and integrates docs/spec.md §1's definitions in long double, sharing nothing
+    // with the integrator but the transfer function: the ray is cut where the scalar crosses a breakpoint (found by
+    // dense sampling and bisection), and on each smooth piece C = integral of c tau exp(-T) by composite 20-point
     // Gauss-Legendre, with T at each node by the same rule from the piece's start.
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> U(0.0, 1.0);

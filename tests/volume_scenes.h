@@ -33,7 +33,7 @@ inline Volume grid(std::array<int64_t, 3> dims, glm::dvec3 origin, glm::dvec3 sp
     return v;
 }
 
-// A data set from ../shared/data with the CLI's default transfer function and default camera (orbited by az, el).
+// A data set from data with the CLI's default transfer function and default camera (orbited by az, el).
 struct VolumeScene {
     Volume volume;
     TransferFunction tf;

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# HAVS (emulated, on GL through OSMesa or EGL, and through the seed's own ARB programs) beside VTK 9's projected
+# HAVS (emulated, on GL through OSMesa or EGL, and through the paper's own ARB programs) beside VTK 9's projected
 # tetrahedra on the same scene, in one run (issues 4, 5 and 24's performance goals).
 #   bash bench/peers/havs_vs_vtk.sh MESH [scene options...]     e.g.
-#   bash bench/peers/havs_vs_vtk.sh ../shared/data/vtk-data/bluntfinxyz.bin --q ../shared/data/vtk-data/bluntfinq.bin \
+#   bash bench/peers/havs_vs_vtk.sh data/vtk-data/bluntfinxyz.bin --q data/vtk-data/bluntfinq.bin \
 #        --size 512x512
 # Environment: K (default 6), GL (osmesa | egl, default osmesa), REPEAT (default 5), ROUNDS (default 3).
 # Needs Debian's python3-vtk9, python3-numpy and xvfb (apt-get install python3-vtk9 python3-numpy xvfb).
@@ -49,7 +49,7 @@ for r in range(1, rounds + 1):
           f"(RGB) against the reference {pt_rmse:.4f} (round 1's image)")
     gl_pt.append(gl["frame_ms"] / pt["frame_ms"]); emu_gl.append(emu["frame_ms"] / gl["frame_ms"])
     arb_gl.append(arb["frame_ms"] / gl["frame_ms"])
-    print(f"  ratios: GL / VTK PT {gl_pt[-1]:.2f}, emulation / GL {emu_gl[-1]:.2f}, ARB (--entries seed) / GL "
+    print(f"  ratios: GL / VTK PT {gl_pt[-1]:.2f}, emulation / GL {emu_gl[-1]:.2f}, ARB (--entries paper) / GL "
           f"{arb_gl[-1]:.2f}")
 print(f"median over {rounds} rounds: GL / VTK PT {statistics.median(gl_pt):.2f} (range {min(gl_pt):.2f}-"
       f"{max(gl_pt):.2f}), emulation / GL {statistics.median(emu_gl):.2f} (range {min(emu_gl):.2f}-{max(emu_gl):.2f}), "

@@ -4,7 +4,7 @@
     measure_images.py --uvr build/bench/uvr --report DIR [--colour-only] --image LABEL=FILE ... -- SCENE [options]
 
 Runs `uvr compare SCENE [options] --algos reference --image FILE --label LABEL ... --report DIR --json` and prints its
-metrics.json object (SPEC section 4's measures per label, and covered_left_empty). With --colour-only, an image that has
+metrics.json object (docs/spec.md §4's measures per label, and covered_left_empty). With --colour-only, an image that has
 alpha (uvr's own .npy) is first cut to its colour (H x W x 3, written under DIR-colour/), so that it is measured as
 the peers' 8-bit RGB images are: on the colour over black.
 """

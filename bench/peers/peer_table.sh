@@ -5,11 +5,11 @@
 #   - a regular grid (a volume): uvr's reference and ray caster (both classifications, emulated and on GL) and VTK 9's
 #     GPU ray caster (vtkOpenGLGPUVolumeRayCastMapper, under Xvfb's Mesa).
 # Milliseconds per frame (median), and each image's error against uvr's reference measured the same way for all, by
-# `uvr compare --image` (SPEC §4 on the RGB colour over black, since VTK's images are 8-bit RGB: RMSE, visible
+# `uvr compare --image` (docs/spec.md §4 on the RGB colour over black, since VTK's images are 8-bit RGB: RMSE, visible
 # fraction, and the fraction of covered pixels left empty).
 #   bash bench/peers/peer_table.sh MESH [scene options...]     e.g.
-#   bash bench/peers/peer_table.sh ../shared/data/vtk-data/bluntfinxyz.bin --q ../shared/data/vtk-data/bluntfinq.bin
-#   bash bench/peers/peer_table.sh ../shared/data/vtk-data/neghip.slc
+#   bash bench/peers/peer_table.sh data/vtk-data/bluntfinxyz.bin --q data/vtk-data/bluntfinq.bin
+#   bash bench/peers/peer_table.sh data/vtk-data/neghip.slc
 # Environment: K (HAVS k, default 6), GL (osmesa | egl, default osmesa), REPEAT (default 5), KEEP (a directory to keep
 # every image and JSON in). Needs Debian's python3-vtk9, python3-numpy and xvfb.
 set -euo pipefail

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The ray caster (seed 002's passes, emulated and on GL; and GL with --interpolation exact, the full-screen pass) beside
-# VTK 9's GPU ray caster on the same volume, in one run (issue 25's performance goal).
+# The ray caster (Krüger and Westermann's passes, emulated and on GL; and GL with --interpolation exact, the full-screen pass) beside
+# VTK 9's GPU ray caster on the same volume, in one run (the performance goal).
 #   bash bench/peers/raycast_vs_vtk.sh VOLUME [scene options...]     e.g.
-#   bash bench/peers/raycast_vs_vtk.sh ../shared/data/vtk-data/neghip.slc --size 512x512
+#   bash bench/peers/raycast_vs_vtk.sh data/vtk-data/neghip.slc --size 512x512
 # Environment: GL (osmesa | egl, default osmesa), REPEAT (default 3), ROUNDS (default 3).
 # Needs Debian's python3-vtk9, python3-numpy and xvfb (apt-get install python3-vtk9 python3-numpy xvfb).
 set -euo pipefail
@@ -17,7 +17,7 @@ trap 'rm -rf "$dir"' EXIT
 # Rounds alternate uvr and VTK, so that both see the same state of a shared machine; the ratios are taken within a
 # round, and their median is the figure reported (docs/raycast.md, "Speed").
 for r in $(seq 1 "$rounds"); do
-  "$uvr" bench "$@" --algos raycast --backend emu,gl --gl "$gl" --repeat "$repeat" --json > "$dir/seed-$r.json"
+  "$uvr" bench "$@" --algos raycast --backend emu,gl --gl "$gl" --repeat "$repeat" --json > "$dir/published-$r.json"
   "$uvr" bench "$@" --algos raycast --backend gl --gl "$gl" --interpolation exact --repeat "$repeat" --json \
     > "$dir/exact-$r.json"
   mkdir -p "$dir/vtk-$r"
@@ -31,22 +31,22 @@ ratios = {}
 def keep(name, value):
     ratios.setdefault(name, []).append(value)
 for r in range(1, rounds + 1):
-    seed = json.load(open(f"{d}/seed-{r}.json")); exact = json.load(open(f"{d}/exact-{r}.json"))
+    published = json.load(open(f"{d}/published-{r}.json")); exact = json.load(open(f"{d}/exact-{r}.json"))
     vtk = json.load(open(f"{d}/vtk-{r}.json"))["results"][0]
-    rows = {(x["backend"], x["classification"], x["interpolation"]): x for x in seed["results"] + exact["results"]}
+    rows = {(x["backend"], x["classification"], x["interpolation"]): x for x in published["results"] + exact["results"]}
     if r == 1:
         g = rows[("gl", "post", "gpu")]
-        print(f"{seed['mesh']}: {seed['width']}x{seed['height']}, step {g['step']}, {seed['machine']['cpu']} "
-              f"({seed['machine']['threads']} threads); GL: {g['gl']}; VTK GPU ray caster {vtk['frame_ms']:.1f} ms")
+        print(f"{published['mesh']}: {published['width']}x{published['height']}, step {g['step']}, {published['machine']['cpu']} "
+              f"({published['machine']['threads']} threads); GL: {g['gl']}; VTK GPU ray caster {vtk['frame_ms']:.1f} ms")
     print(f"round {r}: VTK GPU ray cast {vtk['frame_ms']:8.1f} ms/frame")
     for (backend, cls, interp), x in sorted(rows.items()):
         s = x["stages"]
         print(f"  uvr {backend:3s} {cls:14s} {interp:5s} {x['frame_ms']:8.1f} ms/frame: setup {s['setup']:.1f}, march "
               f"{s['march']:.1f}, readback {s['readback']:.1f} ms; {x['rays']} rays, {x['samples'] / 1e6:.2f} M samples")
     for cls in ("post", "pre-integrated"):
-        keep(f"GL seed {cls} / VTK", rows[("gl", cls, "gpu")]["frame_ms"] / vtk["frame_ms"])
-        keep(f"GL exact {cls} / GL seed", rows[("gl", cls, "exact")]["frame_ms"] / rows[("gl", cls, "gpu")]["frame_ms"])
-        keep(f"emulated seed {cls} / GL seed", rows[("emu", cls, "gpu")]["frame_ms"] / rows[("gl", cls, "gpu")]["frame_ms"])
+        keep(f"GL published {cls} / VTK", rows[("gl", cls, "gpu")]["frame_ms"] / vtk["frame_ms"])
+        keep(f"GL exact {cls} / GL published", rows[("gl", cls, "exact")]["frame_ms"] / rows[("gl", cls, "gpu")]["frame_ms"])
+        keep(f"emulated published {cls} / GL published", rows[("emu", cls, "gpu")]["frame_ms"] / rows[("gl", cls, "gpu")]["frame_ms"])
 print(f"median over {rounds} rounds:")
 for name, v in ratios.items():
     print(f"  {name:34s} {statistics.median(v):.2f} (range {min(v):.2f}-{max(v):.2f})")

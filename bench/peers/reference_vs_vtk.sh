@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The ground truth beside VTK 9's unstructured-grid ray caster on the same scene, in one run (issue 3's goal). VTK's
+# The ground truth beside VTK 9's unstructured-grid ray caster on the same scene, in one run (the goal). VTK's
 # image is measured by `uvr compare --image` (bench/peers/measure_images.py), on its colour: it is 8-bit RGB.
 #   bash bench/peers/reference_vs_vtk.sh MESH [scene options...]     e.g.
-#   bash bench/peers/reference_vs_vtk.sh ../shared/data/vtk-data/bluntfinxyz.bin --q ../shared/data/vtk-data/bluntfinq.bin
+#   bash bench/peers/reference_vs_vtk.sh data/vtk-data/bluntfinxyz.bin --q data/vtk-data/bluntfinq.bin
 # Needs Debian's python3-vtk9, python3-numpy and xvfb (apt-get install python3-vtk9 python3-numpy xvfb).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/../.." && pwd)

@@ -49,9 +49,7 @@ const char* gl_platform_name(GlPlatform p) { return p == GlPlatform::osmesa ? "o
 
 GlPlatform parse_gl_platform(const std::string& name)
 {
-    if (name == "osmesa") return GlPlatform::osmesa;
-    if (name == "egl") return GlPlatform::egl;
-    throw InputError("", "--gl must be osmesa or egl, not '" + name + "'");
+    return parse_choice("--gl", kGlPlatforms, name);
 }
 
 bool GlInfo::has_extension(const std::string& name) const
@@ -225,8 +223,9 @@ GlContext::GlContext(GlPlatform platform, GlProfile profile) : impl_(std::make_u
     if (platform == GlPlatform::osmesa)
         impl_->create_osmesa(info_.detail, profile);
     else if (profile == GlProfile::compatibility)
-        throw InputError("", "EGL: uvr asks for a compatibility-profile context (the seed's ARB programs, --backend "
-                             "arb) only through OSMesa");
+        throw InputError("",
+                         "EGL: uvr asks for a compatibility-profile context (the paper's ARB programs, --backend "
+                         "arb) only through OSMesa");
     else
         impl_->create_egl(info_.detail);
 

@@ -1,4 +1,4 @@
-// A headless OpenGL 4.5 core-profile context for the GL backend (issue 5), and the few helpers every GL stage
+// A headless OpenGL 4.5 core-profile context for the GL backend, and the few helpers every GL stage
 // needs: a function table, shader programs built from the source files in shaders/, framebuffer checks.
 // Platforms, both without a window: OSMesa (llvmpipe) or EGL (a device with a DRM node first, else Mesa's surfaceless
 // platform); every stage renders into its own float FBOs. Entry points go into GlFunctions, a table of our own (no
@@ -12,95 +12,103 @@
 #include <vector>
 
 #include <GL/glcorearb.h>
+#include "reference/choice.h"
 
 namespace uvr::gpu {
 
 enum class GlPlatform { osmesa, egl };
+inline constexpr Choices<GlPlatform, 2> kGlPlatforms{
+    {{GlPlatform::osmesa, "osmesa", "Mesa's off-screen library"}, {GlPlatform::egl, "egl", "EGL without a display"}}};
 const char* gl_platform_name(GlPlatform p);                   // "osmesa", "egl"
 GlPlatform parse_gl_platform(const std::string& name);        // throws InputError for anything else
 
 // The entry points the GL stages use. X(type, name): the member `name` holds "gl" #name.
-#define UVR_GL_FUNCTIONS(X)                                                                                         \
-    X(PFNGLGETSTRINGPROC, GetString)                                                                                \
-    X(PFNGLGETSTRINGIPROC, GetStringi)                                                                              \
-    X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                                            \
-    X(PFNGLGETINTEGER64VPROC, GetInteger64v)                                                                        \
-    X(PFNGLGETERRORPROC, GetError)                                                                                  \
-    X(PFNGLFINISHPROC, Finish)                                                                                      \
-    X(PFNGLENABLEPROC, Enable)                                                                                      \
-    X(PFNGLDISABLEPROC, Disable)                                                                                    \
-    X(PFNGLVIEWPORTPROC, Viewport)                                                                                  \
-    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                                            \
-    X(PFNGLCREATESHADERPROC, CreateShader)                                                                          \
-    X(PFNGLSHADERSOURCEPROC, ShaderSource)                                                                          \
-    X(PFNGLCOMPILESHADERPROC, CompileShader)                                                                        \
-    X(PFNGLGETSHADERIVPROC, GetShaderiv)                                                                            \
-    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                                                                  \
-    X(PFNGLDELETESHADERPROC, DeleteShader)                                                                          \
-    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                                                                        \
-    X(PFNGLATTACHSHADERPROC, AttachShader)                                                                          \
-    X(PFNGLLINKPROGRAMPROC, LinkProgram)                                                                            \
-    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                                                                          \
-    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                                                                \
-    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                                                                        \
-    X(PFNGLUSEPROGRAMPROC, UseProgram)                                                                              \
-    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                                              \
-    X(PFNGLUNIFORM1IPROC, Uniform1i)                                                                                \
-    X(PFNGLUNIFORM1UIPROC, Uniform1ui)                                                                              \
-    X(PFNGLUNIFORM1FPROC, Uniform1f)                                                                                \
-    X(PFNGLUNIFORM1DPROC, Uniform1d)                                                                                \
-    X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                                                                  \
-    X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                                            \
-    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                                                    \
-    X(PFNGLDRAWELEMENTSPROC, DrawElements)                                                                          \
-    X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                                                                    \
-    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                                                    \
-    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                                              \
-    X(PFNGLDRAWARRAYSPROC, DrawArrays)                                                                              \
-    X(PFNGLMULTIDRAWARRAYSPROC, MultiDrawArrays)                                                                    \
-    X(PFNGLGENTEXTURESPROC, GenTextures)                                                                            \
-    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                                                      \
-    X(PFNGLBINDTEXTUREPROC, BindTexture)                                                                            \
-    X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                                                        \
-    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                                                        \
-    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                                                              \
-    X(PFNGLTEXIMAGE3DPROC, TexImage3D)                                                                              \
-    X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                                                                        \
-    X(PFNGLTEXSUBIMAGE3DPROC, TexSubImage3D)                                                                        \
-    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                                                                    \
-    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                                              \
-    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                                                    \
-    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                                                          \
-    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)                                                      \
-    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                                                                  \
-    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                                                            \
-    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                                                                  \
-    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                                                            \
-    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)                                                    \
-    X(PFNGLDEPTHFUNCPROC, DepthFunc)                                                                                \
-    X(PFNGLDRAWBUFFERSPROC, DrawBuffers)                                                                            \
-    X(PFNGLREADBUFFERPROC, ReadBuffer)                                                                              \
-    X(PFNGLREADPIXELSPROC, ReadPixels)                                                                              \
-    X(PFNGLCLEARBUFFERFVPROC, ClearBufferfv)                                                                        \
-    X(PFNGLCLEARBUFFERUIVPROC, ClearBufferuiv)                                                                      \
-    X(PFNGLGENBUFFERSPROC, GenBuffers)                                                                              \
-    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                                                        \
-    X(PFNGLBINDBUFFERPROC, BindBuffer)                                                                              \
-    X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                                                                      \
-    X(PFNGLBUFFERDATAPROC, BufferData)                                                                              \
-    X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)                                                                  \
-    X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                                                        \
-    X(PFNGLBINDIMAGETEXTUREPROC, BindImageTexture)                                                                  \
-    X(PFNGLCOLORMASKPROC, ColorMask)                                                                                \
-    X(PFNGLUNIFORM3DPROC, Uniform3d)                                                                                \
-    X(PFNGLUNIFORM3FPROC, Uniform3f)                                                                                \
-    X(PFNGLCULLFACEPROC, CullFace)                                                                                  \
-    X(PFNGLFRONTFACEPROC, FrontFace)                                                                                \
-    X(PFNGLPROVOKINGVERTEXPROC, ProvokingVertex)                                                                    \
-    X(PFNGLTEXBUFFERPROC, TexBuffer)                                                                                \
-    X(PFNGLFENCESYNCPROC, FenceSync)                                                                                \
-    X(PFNGLCLIENTWAITSYNCPROC, ClientWaitSync)                                                                      \
-    X(PFNGLDELETESYNCPROC, DeleteSync)
+#define UVR_GL_FUNCTIONS(X)                                      \
+    X(PFNGLGETSTRINGPROC, GetString)                             \
+    X(PFNGLGETSTRINGIPROC, GetStringi)                           \
+    X(PFNGLGETINTEGERVPROC, GetIntegerv)                         \
+    X(PFNGLGETINTEGER64VPROC, GetInteger64v)                     \
+    X(PFNGLGETERRORPROC, GetError)                               \
+    X(PFNGLFINISHPROC, Finish)                                   \
+    X(PFNGLENABLEPROC, Enable)                                   \
+    X(PFNGLDISABLEPROC, Disable)                                 \
+    X(PFNGLVIEWPORTPROC, Viewport)                               \
+    X(PFNGLPIXELSTOREIPROC, PixelStorei)                         \
+    X(PFNGLCREATESHADERPROC, CreateShader)                       \
+    X(PFNGLSHADERSOURCEPROC, ShaderSource)                       \
+    X(PFNGLCOMPILESHADERPROC, CompileShader)                     \
+    X(PFNGLGETSHADERIVPROC, GetShaderiv)                         \
+    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)               \
+    X(PFNGLDELETESHADERPROC, DeleteShader)                       \
+    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                     \
+    X(PFNGLATTACHSHADERPROC, AttachShader)                       \
+    X(PFNGLLINKPROGRAMPROC, LinkProgram)                         \
+    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                       \
+    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)             \
+    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                     \
+    X(PFNGLUSEPROGRAMPROC, UseProgram)                           \
+    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)           \
+    X(PFNGLUNIFORM1IPROC, Uniform1i)                             \
+    X(PFNGLUNIFORM1UIPROC, Uniform1ui)                           \
+    X(PFNGLUNIFORM1FPROC, Uniform1f)                             \
+    X(PFNGLUNIFORM1DPROC, Uniform1d)                             \
+    X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)               \
+    X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)         \
+    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray) \
+    X(PFNGLDRAWELEMENTSPROC, DrawElements)                       \
+    X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                 \
+    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                 \
+    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)           \
+    X(PFNGLDRAWARRAYSPROC, DrawArrays)                           \
+    X(PFNGLMULTIDRAWARRAYSPROC, MultiDrawArrays)                 \
+    X(PFNGLGENTEXTURESPROC, GenTextures)                         \
+    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                   \
+    X(PFNGLBINDTEXTUREPROC, BindTexture)                         \
+    X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                     \
+    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                     \
+    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                           \
+    X(PFNGLTEXIMAGE3DPROC, TexImage3D)                           \
+    X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                     \
+    X(PFNGLTEXSUBIMAGE3DPROC, TexSubImage3D)                     \
+    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                 \
+    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)           \
+    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                 \
+    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)       \
+    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)   \
+    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)               \
+    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)         \
+    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)               \
+    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)         \
+    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer) \
+    X(PFNGLDEPTHFUNCPROC, DepthFunc)                             \
+    X(PFNGLDRAWBUFFERSPROC, DrawBuffers)                         \
+    X(PFNGLREADBUFFERPROC, ReadBuffer)                           \
+    X(PFNGLREADPIXELSPROC, ReadPixels)                           \
+    X(PFNGLCLEARBUFFERFVPROC, ClearBufferfv)                     \
+    X(PFNGLCLEARBUFFERUIVPROC, ClearBufferuiv)                   \
+    X(PFNGLGENBUFFERSPROC, GenBuffers)                           \
+    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                     \
+    X(PFNGLBINDBUFFERPROC, BindBuffer)                           \
+    X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                   \
+    X(PFNGLBUFFERDATAPROC, BufferData)                           \
+    X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)               \
+    X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                     \
+    X(PFNGLBINDIMAGETEXTUREPROC, BindImageTexture)               \
+    X(PFNGLCOLORMASKPROC, ColorMask)                             \
+    X(PFNGLUNIFORM3DPROC, Uniform3d)                             \
+    X(PFNGLUNIFORM3FPROC, Uniform3f)                             \
+    X(PFNGLCULLFACEPROC, CullFace)                               \
+    X(PFNGLFRONTFACEPROC, FrontFace)                             \
+    X(PFNGLPROVOKINGVERTEXPROC, ProvokingVertex)                 \
+    X(PFNGLTEXBUFFERPROC, TexBuffer)                             \
+    X(PFNGLFENCESYNCPROC, FenceSync)                             \
+    X(PFNGLCLIENTWAITSYNCPROC, ClientWaitSync)                   \
+    X(PFNGLDELETESYNCPROC, DeleteSync)                           \
+    X(PFNGLGENQUERIESPROC, GenQueries)                           \
+    X(PFNGLDELETEQUERIESPROC, DeleteQueries)                     \
+    X(PFNGLBEGINQUERYPROC, BeginQuery)                           \
+    X(PFNGLENDQUERYPROC, EndQuery)                               \
+    X(PFNGLGETQUERYOBJECTUI64VPROC, GetQueryObjectui64v)
 
 struct GlFunctions {
 #define UVR_GL_MEMBER(type, name) type name = nullptr;
@@ -108,7 +116,7 @@ struct GlFunctions {
 #undef UVR_GL_MEMBER
 };
 
-// What the context reports, for reports and docs (SPEC §5: record the Mesa version a claim was checked on).
+// What the context reports, for reports and docs (docs/spec.md §5: record the Mesa version a claim was checked on).
 struct GlInfo {
     GlPlatform platform = GlPlatform::osmesa;
     std::string detail;    // how it was made: "OSMesa 8.0 core 4.5", "EGL 1.5 device 0 (EGL_MESA_device_software)"
@@ -121,7 +129,7 @@ struct GlInfo {
 };
 
 // core: what every GLSL stage runs on. compatibility (OSMesa only): the profile that keeps ARB assembly programs and
-// the fixed-function matrix stacks, for the seed's own programs (--backend arb, gpu/havs/gl_havs_arb.h).
+// the fixed-function matrix stacks, for the published programs (--backend arb, gpu/havs/gl_havs_arb.h).
 enum class GlProfile { core, compatibility };
 
 class GlContext {

@@ -2,7 +2,7 @@
 // the fence `depth` draws back. llvmpipe rasterizes a draw's triangles later, on its own threads, from scenes that hold
 // each triangle's setup (its planes, per input) until they are rasterized, and the submitting thread may queue many
 // scenes: without a bound, what a 10 M-tetrahedron HAVS frame keeps in flight doubled its memory peak
-// (docs/results.md, "Memory with the seed's interpolation"). Changes no bit: GL keeps the draws' order.
+// (docs/results.md, "Memory with the published interpolation"). Changes no bit: GL keeps the draws' order.
 // Twins: none (GL side only). Used by gpu/havs/gl_havs.cpp and gpu/havs/gl_havs_arb.cpp.
 #pragma once
 

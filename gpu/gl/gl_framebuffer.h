@@ -16,7 +16,10 @@ namespace uvr::gpu {
 
 class GlFloatFramebuffer {
 public:
-    enum class Depth { none, d24 };  // d24: a GL_DEPTH_COMPONENT24 renderbuffer (the seed 002 ray caster's)
+    enum class Depth {
+        none,
+        d24
+    };  // d24: a GL_DEPTH_COMPONENT24 renderbuffer (the Krüger and Westermann ray caster's)
     GlFloatFramebuffer(const GlContext& ctx, int count, std::string what, Depth depth = Depth::none)
         : ctx_(ctx), count_(count), what_(what), depth_(depth)
     {

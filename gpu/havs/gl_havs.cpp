@@ -11,13 +11,11 @@
 #include "gpu/havs/gl_havs_fragment.h"
 #include "gpu/havs/gl_havs_stream.h"
 #include "reference/error.h"
+#include "reference/timing.h"
 
 namespace uvr::gpu {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 constexpr const char* kFramebufferFetch = "GL_EXT_shader_framebuffer_fetch";
 
@@ -31,22 +29,22 @@ int entry_targets(int k) { return (k + 1) / 2; }
 // Fin, 512 x 512: 0.69-0.73 s with 128, 16 or 8 MiB). docs/results.md, "Memory".
 constexpr std::size_t kFaceBytesPerDraw = std::size_t(16) << 20;
 
-// --interpolation gpu: what the seed's vertex program reads per vertex. The vertices are not shared (a face's three
+// --interpolation gpu: what the paper's vertex program reads per vertex. The vertices are not shared (a face's three
 // carry its side, a per-face attribute), so a triangle sends 3 x 20 bytes.
-struct SeedVertex {
+struct PaperVertex {
     float position[3];
     float scalar;
     float side;
 };
-static_assert(sizeof(SeedVertex) == 20);
+static_assert(sizeof(PaperVertex) == 20);
 
 }  // namespace
 
 struct GlHavsRenderer::Objects {
     const GlFunctions& gl;
     std::unique_ptr<GlProgram> geometry, flush;
-    GLuint mesh_vao = 0, empty_vao = 0, seed_vao = 0;
-    GLuint vertex_buffer = 0, element_buffer = 0, face_buffer = 0, seed_buffer = 0;
+    GLuint mesh_vao = 0, empty_vao = 0, paper_vao = 0;
+    GLuint vertex_buffer = 0, element_buffer = 0, face_buffer = 0, paper_buffer = 0;
     GLuint table_texture = 0, face_texture = 0;
     std::unique_ptr<GlFloatFramebuffer> framebuffer;  // colour, k-buffer targets, diagnostics
 
@@ -56,9 +54,9 @@ struct GlHavsRenderer::Objects {
         framebuffer.reset();
         geometry.reset();
         flush.reset();
-        const GLuint buffers[] = {vertex_buffer, element_buffer, face_buffer, seed_buffer};
+        const GLuint buffers[] = {vertex_buffer, element_buffer, face_buffer, paper_buffer};
         gl.DeleteBuffers(4, buffers);
-        const GLuint vaos[] = {mesh_vao, empty_vao, seed_vao};
+        const GLuint vaos[] = {mesh_vao, empty_vao, paper_vao};
         gl.DeleteVertexArrays(3, vaos);
         if (table_texture) gl.DeleteTextures(1, &table_texture);
         if (face_texture) gl.DeleteTextures(1, &face_texture);
@@ -143,7 +141,7 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     std::vector<std::pair<std::string, std::string>> defines = {
         {"HAVS_K", std::to_string(k)}, {"HAVS_TARGETS", std::to_string(entry_targets(k))}};
     if (diagnostics_) defines.push_back({"HAVS_DIAGNOSTICS", "1"});
-    if (mesh_.options().entries == EntryEncoding::seed) defines.push_back({"HAVS_SEED_ENTRIES", "1"});
+    if (mesh_.options().entries == EntryEncoding::paper) defines.push_back({"HAVS_PAPER_ENTRIES", "1"});
     std::vector<std::string> extensions;
     if (!images_) {
         extensions.push_back(kFramebufferFetch);
@@ -155,11 +153,11 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
         }
     }
     const std::vector<std::string> files = {"preintegration_table.frag", "havs_fragment.frag", "havs.frag"};
-    const bool seed = mesh_.options().interpolation == InterpolationMode::gpu;
+    const bool published = mesh_.options().interpolation == InterpolationMode::gpu;
     std::vector<std::pair<std::string, std::string>> geometry_defines = defines, vertex_defines;
-    if (seed) {
-        geometry_defines.push_back({"HAVS_SEED_VARYINGS", "1"});
-        vertex_defines.push_back({"HAVS_SEED_VARYINGS", "1"});
+    if (published) {
+        geometry_defines.push_back({"HAVS_PAPER_VARYINGS", "1"});
+        vertex_defines.push_back({"HAVS_PAPER_VARYINGS", "1"});
     }
     gl_->geometry = std::make_unique<GlProgram>(
         ctx_, GlShaderSource{{"clip_position.vert", "havs_vertex.vert"}, vertex_defines, {}},
@@ -179,16 +177,16 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     gl.EnableVertexAttribArray(0);
     gl.GenBuffers(1, &gl_->element_buffer);
     gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, gl_->element_buffer);
-    // --interpolation gpu: the stream of unshared vertices (SeedVertex), filled per draw.
-    gl.GenVertexArrays(1, &gl_->seed_vao);
-    gl.BindVertexArray(gl_->seed_vao);
-    gl.GenBuffers(1, &gl_->seed_buffer);
-    gl.BindBuffer(GL_ARRAY_BUFFER, gl_->seed_buffer);
-    gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(SeedVertex), nullptr);
-    gl.VertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, sizeof(SeedVertex),
-                           reinterpret_cast<const void*>(offsetof(SeedVertex, scalar)));
-    gl.VertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, sizeof(SeedVertex),
-                           reinterpret_cast<const void*>(offsetof(SeedVertex, side)));
+    // --interpolation gpu: the stream of unshared vertices (PaperVertex), filled per draw.
+    gl.GenVertexArrays(1, &gl_->paper_vao);
+    gl.BindVertexArray(gl_->paper_vao);
+    gl.GenBuffers(1, &gl_->paper_buffer);
+    gl.BindBuffer(GL_ARRAY_BUFFER, gl_->paper_buffer);
+    gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(PaperVertex), nullptr);
+    gl.VertexAttribPointer(1, 1, GL_FLOAT, GL_FALSE, sizeof(PaperVertex),
+                           reinterpret_cast<const void*>(offsetof(PaperVertex, scalar)));
+    gl.VertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, sizeof(PaperVertex),
+                           reinterpret_cast<const void*>(offsetof(PaperVertex, side)));
     for (GLuint a = 0; a < 3; ++a) gl.EnableVertexAttribArray(a);
     gl.BindVertexArray(0);
     gl.GenBuffers(1, &gl_->face_buffer);
@@ -206,31 +204,23 @@ GlHavsRenderer::~GlHavsRenderer()
     gl_.reset();
 }
 
-HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
+void GlHavsRenderer::use_program(const GlProgram& p, const HavsFrameSetup& fs)
 {
-    ctx_.make_current();
+    ctx_.gl().UseProgram(p.id());
+    set_havs_frame_uniforms(ctx_, p, fs.constants);
+}
+
+void GlHavsRenderer::prepare_frame(const HavsFrameSetup& fs, int width, int height)
+{
     const GlFunctions& gl = ctx_.gl();
-    const int k = mesh_.options().k, targets = entry_targets(k);
-
-    HavsFrame out;
-    HavsStats& st = out.stats;
-    st.table_ms = mesh_.table_ms();
-    st.faces = mesh_.face_count();
-
-    // CPU stage: sort, vertex stage, clip stage; then the frame's vertex buffer.
-    const HavsFrameSetup fs = setup_havs_frame(mesh_, cam, width, height);
-    st.sort_ms = fs.sort_ms;
-    store_clip_stats(fs, st);
-    auto t0 = Clock::now();
-    const bool seed = mesh_.options().interpolation == InterpolationMode::gpu;
-    const bool seed_entries = mesh_.options().entries == EntryEncoding::seed;
-    if (!seed) {  // --interpolation exact: the shared vertices, drawn by index (the seed's stream is per draw, below)
+    const int targets = entry_targets(mesh_.options().k);
+    const bool published = mesh_.options().interpolation == InterpolationMode::gpu;
+    if (!published) {  // --interpolation exact: the shared vertices, drawn by index (the paper's stream is per draw)
         gl.BindVertexArray(gl_->mesh_vao);
         gl.BindBuffer(GL_ARRAY_BUFFER, gl_->vertex_buffer);
         gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(fs.points_f.size() * sizeof(glm::vec3)), fs.points_f.data(),
                       GL_STREAM_DRAW);
     }
-
     gl_->framebuffer->bind(width, height);
     gl.Disable(GL_BLEND);
     gl.Disable(GL_DEPTH_TEST);
@@ -248,39 +238,38 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
             gl.BindImageTexture(GLuint(i), gl_->framebuffer->texture(i), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
         gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
     }
-
-    auto use = [&](const GlProgram& p) {
-        gl.UseProgram(p.id());
-        set_havs_frame_uniforms(ctx_, p, fs.constants);
-    };
-    use(*gl_->geometry);
-    const Mat4f& mvp = seed ? fs.view.driver_mvp : fs.view.mvp;  // the seed's program reads state.matrix.mvp
+    use_program(*gl_->geometry, fs);
+    const Mat4f& mvp = published ? fs.view.driver_mvp : fs.view.mvp;  // the paper's program reads state.matrix.mvp
     gl.UniformMatrix4fv(gl_->geometry->uniform("havs_mvp", true), 1, GL_FALSE, &mvp[0][0]);
-    if (seed) gl.UniformMatrix4fv(gl_->geometry->uniform("havs_mv", true), 1, GL_FALSE, &fs.view.view[0][0]);
+    if (published) gl.UniformMatrix4fv(gl_->geometry->uniform("havs_mv", true), 1, GL_FALSE, &fs.view.view[0][0]);
     ctx_.check_error("preparing the HAVS geometry pass");
-    st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
+}
 
-    // The geometry pass: the triangles in drawing order, in draws of faces_per_draw() (GL keeps primitive order across
-    // draws, so the pixels see the same sequence as from one draw). Each draw's face constants and vertex indices are
-    // built and uploaded just before it: neither the CPU nor Mesa holds more than a few chunks of them.
+// The triangles in drawing order, in draws of faces_per_draw() (GL keeps primitive order across draws, so the pixels
+// see the same sequence as from one draw). Each draw's data are built and uploaded just before it: neither the CPU
+// nor Mesa holds more than a few chunks of them.
+void GlHavsRenderer::geometry_pass(const HavsFrameSetup& fs, HavsStats& st)
+{
+    const GlFunctions& gl = ctx_.gl();
     const std::size_t chunk = faces_per_draw();
-    if (seed) {
-        // --interpolation gpu: each triangle's three vertices with the seed's attributes, drawn in order.
-        gl.BindVertexArray(gl_->seed_vao);
-        gl.BindBuffer(GL_ARRAY_BUFFER, gl_->seed_buffer);
-        draw_havs_stream<SeedVertex>(
+    if (mesh_.options().interpolation == InterpolationMode::gpu) {
+        // --interpolation gpu: each triangle's three vertices with the paper's attributes, drawn in order.
+        const bool paper_entries = mesh_.options().entries == EntryEncoding::paper;
+        gl.BindVertexArray(gl_->paper_vao);
+        gl.BindBuffer(GL_ARRAY_BUFFER, gl_->paper_buffer);
+        draw_havs_stream<PaperVertex>(
             ctx_, mesh_, fs, chunk, submission_, st,
-            [&](uint32_t id, const uint32_t* v, SeedVertex* out) {
+            [&](uint32_t id, const uint32_t* v, PaperVertex* out) {
                 float side = havs_face_side(mesh_, fs, id);
                 bool exit = false;
-                if (seed_entries) {  // the mark travels in the scalar (havs_seed_exit), the side stays interior
-                    exit = havs_seed_exit(mesh_, fs, id);
+                if (paper_entries) {  // the mark travels in the scalar (havs_paper_exit), the side stays interior
+                    exit = havs_paper_exit(mesh_, fs, id);
                     side = kSideInterior;
                 }
                 for (std::size_t j = 0; j < 3; ++j) {
                     const glm::vec3& p = fs.points_f[v[j]];
-                    const float s = exit ? seed_exit_scalar(fs.s_f[v[j]]) : fs.s_f[v[j]];
-                    out[j] = SeedVertex{{p.x, p.y, p.z}, s, side};
+                    const float s = exit ? paper_exit_scalar(fs.s_f[v[j]]) : fs.s_f[v[j]];
+                    out[j] = PaperVertex{{p.x, p.y, p.z}, s, side};
                 }
             },
             [] {});
@@ -304,15 +293,19 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
             },
             [&](std::size_t n) { gl.DrawElements(GL_TRIANGLES, GLsizei(3 * n), GL_UNSIGNED_INT, nullptr); });
     }
-    t0 = Clock::now();
+    const auto t0 = Clock::now();
     gl.Finish();
     ctx_.check_error("the HAVS geometry pass");
     st.raster_fragment_ms += ms_since(t0);
+}
 
-    // The flush: one full-screen pass running the program k times on the flush fragment (shaders/havs.frag).
-    t0 = Clock::now();
+// One full-screen pass running the program k times on the flush fragment (shaders/havs.frag).
+void GlHavsRenderer::flush_pass(const HavsFrameSetup& fs, HavsStats& st)
+{
+    const GlFunctions& gl = ctx_.gl();
+    const auto t0 = Clock::now();
     if (images_) gl.MemoryBarrier(GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);  // the geometry pass's stores, for its loads
-    use(*gl_->flush);
+    use_program(*gl_->flush, fs);
     gl.BindVertexArray(gl_->empty_vao);
     gl.DrawArrays(GL_TRIANGLES, 0, 3);
     gl.Finish();
@@ -323,16 +316,18 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     ctx_.check_error("the HAVS flush passes");
     st.flush_ms = ms_since(t0);
     gl.BindVertexArray(0);
+}
 
-    // Read back (exact for float attachments), flipping GL rows to SPEC rows.
-    t0 = Clock::now();
+// Read back (exact for float attachments), flipping GL rows to image rows (row 0 on top). The diagnostics attachment
+// holds havs_diag: counts as exact floats.
+void GlHavsRenderer::read_frame(int width, int height, HavsFrame& out)
+{
+    const auto t0 = Clock::now();
     const std::size_t npix = std::size_t(width) * std::size_t(height);
     const std::vector<glm::vec4> colour = gl_->framebuffer->read(0);
     std::vector<glm::vec4> diag;
-    if (diagnostics_) diag = gl_->framebuffer->read(1 + targets);
-    st.readback_ms = ms_since(t0);
-
-    // The diagnostics attachment holds havs_diag: counts as exact floats.
+    if (diagnostics_) diag = gl_->framebuffer->read(1 + entry_targets(mesh_.options().k));
+    out.stats.readback_ms = ms_since(t0);
     std::vector<KBufferDiagnostics> counts;
     if (diagnostics_) {
         counts.resize(npix);
@@ -340,6 +335,25 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
             counts[p] = {uint32_t(diag[p].x), uint32_t(diag[p].y), uint32_t(diag[p].z), diag[p].w};
     }
     store_havs_frame(colour.data(), diagnostics_ ? &counts : nullptr, width, height, out);
+}
+
+HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
+{
+    ctx_.make_current();
+    HavsFrame out;
+    HavsStats& st = out.stats;
+    st.table_ms = mesh_.table_ms();
+    st.faces = mesh_.face_count();
+    // CPU stage: sort, vertex stage, clip stage; then the frame's buffers and uniforms.
+    const HavsFrameSetup fs = setup_havs_frame(mesh_, cam, width, height);
+    st.sort_ms = fs.sort_ms;
+    store_clip_stats(fs, st);
+    const auto t0 = Clock::now();
+    prepare_frame(fs, width, height);
+    st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
+    geometry_pass(fs, st);
+    flush_pass(fs, st);
+    read_frame(width, height, out);
     return out;
 }
 

@@ -1,4 +1,4 @@
-// HAVS on a real GL context (issue 5): the GL twin of the emulated driver gpu/havs/havs.cpp. The CPU stage is the same
+// HAVS on a real GL context: the GL twin of the emulated driver gpu/havs/havs.cpp. The CPU stage is the same
 // code (havs_setup: the sorted faces, the vertex stage's double geometry, the per-face constants); the GPU runs
 // shaders/havs_vertex.vert, rasterizes, and runs shaders/havs_fragment.frag + shaders/havs.frag on every fragment, the
 // k-buffer living in RGBA32F colour attachments read and written with GL_EXT_shader_framebuffer_fetch; then the flush
@@ -38,8 +38,8 @@ public:
     GlHavsRenderer(const GlHavsRenderer&) = delete;
     GlHavsRenderer& operator=(const GlHavsRenderer&) = delete;
 
-    // Renders one frame and reads it back (float32 RGBA, SPEC §2 rows). Stats: sort_ms and setup_ms are CPU time
-    // (setup includes building and uploading the per-face constants), raster_fragment_ms the geometry pass and
+    // Renders one frame and reads it back (float32 RGBA, docs/spec.md §2 rows). Stats: sort_ms and setup_ms are CPU
+    // time (setup includes building and uploading the per-face constants), raster_fragment_ms the geometry pass and
     // flush_ms the flush passes, each up to glFinish, readback_ms the glReadPixels.
     HavsFrame render(const Camera& camera, int width, int height);
 
@@ -59,6 +59,13 @@ public:
 
 private:
     struct Objects;
+    // The frame's stages (render): the framebuffer cleared and the geometry program's uniforms; the geometry pass;
+    // the flush pass; the read-back.
+    void prepare_frame(const HavsFrameSetup& fs, int width, int height);
+    void geometry_pass(const HavsFrameSetup& fs, HavsStats& st);
+    void flush_pass(const HavsFrameSetup& fs, HavsStats& st);
+    void read_frame(int width, int height, HavsFrame& out);
+    void use_program(const GlProgram& p, const HavsFrameSetup& fs);
     GlContext& ctx_;
     HavsMesh mesh_;
     bool diagnostics_;

@@ -8,10 +8,9 @@
 #include "gpu/gl/gl_preintegration_table.h"
 #include "gpu/havs/gl_havs_stream.h"
 #include "reference/error.h"
+#include "reference/timing.h"
 
 namespace uvr::gpu {
-
-
 
 std::unique_ptr<ArbFunctions> load_arb_functions(const GlContext& ctx)
 {
@@ -20,7 +19,7 @@ std::unique_ptr<ArbFunctions> load_arb_functions(const GlContext& ctx)
         member = reinterpret_cast<std::remove_reference_t<decltype(member)>>(ctx.proc_address(name));
         if (!member)
             throw InputError("", std::string("the GL context (") + ctx.info().summary() + ") lacks " + name +
-                                     ", which the seed's ARB programs need (--backend arb: an OSMesa "
+                                     ", which the paper's ARB programs need (--backend arb: an OSMesa "
                                      "compatibility-profile context)");
     };
     load(f->GenProgramsARB, "glGenProgramsARB");
@@ -67,11 +66,11 @@ void ArbProgram::bind() const { arb_.BindProgramARB(target_, id_); }
 void check_arb_options(const HavsOptions& o)
 {
     auto refuse = [](const std::string& what) {
-        throw InputError("", "--backend arb runs the seed's programs as printed: " + what);
+        throw InputError("", "--backend arb runs the paper's programs as printed: " + what);
     };
     if (o.k != kArbK) refuse("k is 6 (three textures of two entries), not " +
                                 (o.k == kEveryFragment ? std::string("all") : std::to_string(o.k)));
-    if (o.entries != EntryEncoding::seed) refuse("they need --entries seed (the scalar is the table coordinate)");
+    if (o.entries != EntryEncoding::paper) refuse("they need --entries paper (the scalar is the table coordinate)");
     if (o.segment != SegmentMode::table) refuse("they sample the pre-integrated table (--segment table)");
     if (o.threshold != 0.99f) refuse("their kill is at 0.99 (--threshold 0.99)");
     if (o.coverage != Coverage::gpu) refuse("the rasterizer covers the pixels (--coverage gpu)");
@@ -80,10 +79,7 @@ void check_arb_options(const HavsOptions& o)
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-// What the seed's vertex program reads per vertex: vertex.position (w defaults to 1) and vertex.texcoord[0].x.
+// What the paper's vertex program reads per vertex: vertex.position (w defaults to 1) and vertex.texcoord[0].x.
 struct ArbVertex {
     float position[3];
     float scalar;
@@ -125,14 +121,14 @@ ArbHavsRenderer::ArbHavsRenderer(GlContext& ctx, const TetMesh& mesh, const Mesh
     ctx_.make_current();
     gl_ = std::make_unique<Objects>(ctx_.gl());
     gl_->arb = load_arb_functions(ctx_);
-    gl_->vertex = std::make_unique<ArbProgram>(ctx_, *gl_->arb, arb::kVertexProgram,
-                                               shader_dir() + "/havs_seed.vp", read_shader_file("havs_seed.vp"));
+    gl_->vertex = std::make_unique<ArbProgram>(ctx_, *gl_->arb, arb::kVertexProgram, shader_dir() + "/havs_paper.vp",
+                                               read_shader_file("havs_paper.vp"));
     gl_->fragment = std::make_unique<ArbProgram>(ctx_, *gl_->arb, arb::kFragmentProgram,
-                                                 shader_dir() + "/havs_seed.fp", read_shader_file("havs_seed.fp"));
+                                                 shader_dir() + "/havs_paper.fp", read_shader_file("havs_paper.fp"));
     ctx_.gl().GenBuffers(1, &gl_->buffer);
     upload_preintegration_table(ctx_, *mesh_.table(), mesh_.options().filter, gl_->table_texture);
     gl_->framebuffer = std::make_unique<GlFloatFramebuffer>(ctx_, 1 + kArbK / 2, "the ARB HAVS framebuffer");
-    ctx_.check_error("setting up the seed's ARB programs");
+    ctx_.check_error("setting up the paper's ARB programs");
 }
 
 ArbHavsRenderer::~ArbHavsRenderer()
@@ -144,8 +140,9 @@ ArbHavsRenderer::~ArbHavsRenderer()
 HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
 {
     if (cam.orthographic)
-        throw InputError("", "--backend arb: the seed's fragment program takes the distance |e| to the eye, which "
-                             "an orthographic view does not have; use a perspective camera");
+        throw InputError("",
+                         "--backend arb: the paper's fragment program takes the distance |e| to the eye, which "
+                         "an orthographic view does not have; use a perspective camera");
     ctx_.make_current();
     const GlFunctions& gl = ctx_.gl();
     const ArbFunctions& arb = *gl_->arb;
@@ -159,7 +156,7 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
     store_clip_stats(fs, st);
     auto t0 = Clock::now();
 
-    // Targets and textures: attachment i is texture i of the program (the seed's pbuffer and k-buffer), cleared to
+    // Targets and textures: attachment i is texture i of the program (the paper's pbuffer and k-buffer), cleared to
     // colour 0 and empty entries (-1, 0); the table on texture 4.
     gl_->framebuffer->bind(width, height);
     gl.Disable(GL_BLEND);
@@ -196,17 +193,17 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
     arb.ClientActiveTexture(GL_TEXTURE0);
     arb.EnableClientState(arb::kTexCoordArray);
     arb.TexCoordPointer(1, GL_FLOAT, sizeof(ArbVertex), reinterpret_cast<const void*>(offsetof(ArbVertex, scalar)));
-    ctx_.check_error("preparing the seed's ARB programs");
+    ctx_.check_error("preparing the paper's ARB programs");
     st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
 
-    // The geometry: each triangle's three vertices (an exit face's scalars negated: havs_seed_exit), in sorted order.
+    // The geometry: each triangle's three vertices (an exit face's scalars negated: havs_paper_exit), in sorted order.
     draw_havs_stream<ArbVertex>(
         ctx_, mesh_, fs, triangles_per_draw_, submission_, st,
         [&](uint32_t id, const uint32_t* v, ArbVertex* out) {
-            const bool exit = havs_seed_exit(mesh_, fs, id);
+            const bool exit = havs_paper_exit(mesh_, fs, id);
             for (std::size_t j = 0; j < 3; ++j) {
                 const glm::vec3& p = fs.points_f[v[j]];
-                const float s = exit ? seed_exit_scalar(fs.s_f[v[j]]) : fs.s_f[v[j]];
+                const float s = exit ? paper_exit_scalar(fs.s_f[v[j]]) : fs.s_f[v[j]];
                 out[j] = ArbVertex{{p.x, p.y, p.z}, s};
             }
         },
@@ -215,10 +212,10 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
         });
     t0 = Clock::now();
     gl.Finish();
-    ctx_.check_error("the seed's programs on the geometry");
+    ctx_.check_error("the paper's programs on the geometry");
     st.raster_fragment_ms += ms_since(t0);
 
-    // The flush: k draws of a triangle over the whole screen whose fragments are kSeedFlushFragment: scalar -1 and
+    // The flush: k draws of a triangle over the whole screen whose fragments are kPaperFlushFragment: scalar -1 and
     // the eye position (x, y, 2^60), |e| = 2^60 exactly (x and y within 3 vanish below 2^120's rounding). The
     // model-view is the identity (so e is the position), the projection keeps x and y and puts z at 0.
     t0 = Clock::now();
@@ -228,7 +225,7 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
     arb.LoadMatrixf(flat);
     arb.MatrixMode(arb::kModelview);
     arb.LoadMatrixf(identity);
-    const float far = kSeedFlushFragment.y, s = kSeedFlushFragment.x;
+    const float far = kPaperFlushFragment.y, s = kPaperFlushFragment.x;
     const ArbVertex flush[3] = {{{-1, -1, far}, s}, {{3, -1, far}, s}, {{-1, 3, far}, s}};
     gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(sizeof(flush)), flush, GL_STREAM_DRAW);
     for (int run = 0; run < kArbK; ++run) {
@@ -236,7 +233,7 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
         if (barrier_) arb.TextureBarrier();
     }
     gl.Finish();
-    ctx_.check_error("the seed's programs on the flush");
+    ctx_.check_error("the paper's programs on the flush");
     st.flush_ms = ms_since(t0);
     gl.Disable(arb::kVertexProgram);
     gl.Disable(arb::kFragmentProgram);

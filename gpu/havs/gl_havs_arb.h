@@ -1,10 +1,10 @@
-// HAVS through the seed's own ARB programs (seed 000, Appendices I and II; SPEC §7, `--backend arb`): the witness that
-// the emulated k-buffer program is the seed's. The programs are shaders/havs_seed.vp and shaders/havs_seed.fp, the
-// appendices' text but for three repairs of the print, loaded with glProgramStringARB in an OSMesa compatibility
-// context; k = 6, the k-buffer in RGBA32F textures bound both as render targets and as textures 0-3, the table on
-// texture 4. The CPU stage is HAVS's own (gpu/havs/havs_setup.h) with --entries seed.
-// Twins: the emulated driver gpu/havs/havs.h and the GLSL driver gpu/havs/gl_havs.h with the same options give the
-// same bits; stage harness GlHavsArbHarness (gpu/havs/gl_havs_harness.h). Details: docs/havs-arb.md.
+// HAVS through the paper's own ARB programs (the HAVS paper, Appendices I and II; docs/spec.md §7, `--backend arb`):
+// the witness that the emulated k-buffer program is the paper's. The programs are shaders/havs_paper.vp and
+// shaders/havs_paper.fp, the appendices' text but for three repairs of the print, loaded with glProgramStringARB in an
+// OSMesa compatibility context; k = 6, the k-buffer in RGBA32F textures bound both as render targets and as textures
+// 0-3, the table on texture 4. The CPU stage is HAVS's own (gpu/havs/havs_setup.h) with --entries paper. Twins: the
+// emulated driver gpu/havs/havs.h and the GLSL driver gpu/havs/gl_havs.h with the same options give the same bits;
+// stage harness GlHavsArbHarness (gpu/havs/gl_havs_harness.h). Details: docs/havs-arb.md.
 #pragma once
 
 #include <memory>
@@ -15,7 +15,7 @@
 
 namespace uvr::gpu {
 
-inline constexpr int kArbK = 6;  // the seed's k-buffer: three textures of two entries
+inline constexpr int kArbK = 6;  // the paper's k-buffer: three textures of two entries
 
 // The compatibility profile's names that glcorearb.h leaves out (values from the ARB_vertex_program,
 // ARB_fragment_program and OpenGL 1.x specifications).
@@ -64,7 +64,7 @@ private:
 // Loads the ARB entry points from a compatibility-profile context; throws InputError naming a missing one.
 std::unique_ptr<ArbFunctions> load_arb_functions(const GlContext& ctx);
 
-// What --backend arb accepts: k = 6, --entries seed, the table, threshold 0.99, the rasterizer's coverage (throws
+// What --backend arb accepts: k = 6, --entries paper, the table, threshold 0.99, the rasterizer's coverage (throws
 // InputError naming the option otherwise).
 void check_arb_options(const HavsOptions& o);
 
@@ -77,8 +77,8 @@ public:
     ArbHavsRenderer(const ArbHavsRenderer&) = delete;
     ArbHavsRenderer& operator=(const ArbHavsRenderer&) = delete;
 
-    // Renders one frame (perspective cameras only: the seed's distance is |e|) and reads the colour back. No
-    // per-pixel diagnostics (the seed's program writes none).
+    // Renders one frame (perspective cameras only: the paper's distance is |e|) and reads the colour back. No
+    // per-pixel diagnostics (the paper's program writes none).
     HavsFrame render(const Camera& camera, int width, int height);
 
     // Triangles per draw call, and whether glTextureBarrier follows each draw (docs/havs-arb.md, "Reading the

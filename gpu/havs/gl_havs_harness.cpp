@@ -50,7 +50,7 @@ const GlProgram& GlHavsFragmentHarness::program(int k, int mode)
                           {{"HAVS_K", std::to_string(std::max(k, 1))}},
                           {}};
         if (k == -1) {
-            fs.defines.push_back({"HARNESS_SEED", "1"});
+            fs.defines.push_back({"HARNESS_PAPER", "1"});
         } else if (k == 0) {
             fs.defines.push_back({"HARNESS_ENTRY", "1"});
         } else {
@@ -202,10 +202,11 @@ std::vector<KEntry> GlHavsFragmentHarness::run_entry(const HavsFrameConstants& f
     return out;
 }
 
-std::vector<glm::vec4> GlHavsFragmentHarness::run_seed(const HavsFrameConstants& fc, const std::vector<HavsVaryings>& v,
-                                                      const std::vector<glm::vec3>& corners)
+std::vector<glm::vec4> GlHavsFragmentHarness::run_paper(const HavsFrameConstants& fc,
+                                                        const std::vector<HavsVaryings>& v,
+                                                        const std::vector<glm::vec3>& corners)
 {
-    if (v.size() != corners.size()) throw std::invalid_argument("run_seed: one corner triple per case");
+    if (v.size() != corners.size()) throw std::invalid_argument("run_paper: one corner triple per case");
     ctx_.make_current();
     const GlFunctions& gl = ctx_.gl();
     const GlProgram& prog = program(-1, 0);
@@ -232,14 +233,14 @@ std::vector<glm::vec4> GlHavsFragmentHarness::run_seed(const HavsFrameConstants&
         pass.input_2d(1, b, w, h);
         pass.targets(ctx_, {GL_RGBA32F}, w, h);
         gl.DrawArrays(GL_TRIANGLES, 0, 3);
-        ctx_.check_error("the seed-entry harness pass");
+        ctx_.check_error("the paper-entry harness pass");
         const std::vector<float> res = pass.read(0, w, h);
         for (std::size_t i = 0; i < m; ++i) out[base + i] = glm::vec4(res[4 * i], res[4 * i + 1], res[4 * i + 2], 0.0f);
     }
     return out;
 }
 
-// ---- The seed's ARB fragment program ----
+// ---- The paper's ARB fragment program ----
 
 namespace {
 // The harness's vertex program: the point's clip position and both texture coordinates as they are.
@@ -267,7 +268,7 @@ GlHavsArbHarness::GlHavsArbHarness(GlContext& ctx) : ctx_(ctx), gl_(std::make_un
     gl_->vertex = std::make_unique<ArbProgram>(ctx_, *gl_->arb, arb::kVertexProgram, "the pass-through vertex program",
                                                kArbPassThrough);
     gl_->fragment = std::make_unique<ArbProgram>(ctx_, *gl_->arb, arb::kFragmentProgram,
-                                                 shader_dir() + "/havs_seed.fp", read_shader_file("havs_seed.fp"));
+                                                 shader_dir() + "/havs_paper.fp", read_shader_file("havs_paper.fp"));
 }
 
 GlHavsArbHarness::~GlHavsArbHarness()

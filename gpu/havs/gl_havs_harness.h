@@ -1,14 +1,13 @@
-// Runs GL shader stages alone on chosen inputs, for bit-for-bit comparison with their emulations (SPEC §5, stage
-// level). One test case per pixel of a full-screen pass (shaders/fullscreen.vert): the inputs are laid out as
+// Runs GL shader stages alone on chosen inputs, for bit-for-bit comparison with their emulations (docs/spec.md §5,
+// stage level). One test case per pixel of a full-screen pass (shaders/fullscreen.vert): the inputs are laid out as
 // RGBA32F textures (read with texelFetch: the bits as uploaded) or shader storage buffers, the outputs are float FBO
-// attachments read back with glReadPixels (exact for RGBA32F attachments). Large batches go in chunks of
-// kHarnessWidth x kHarnessRows cases.
-// Stages: HAVS's fragment program (shaders/havs_fragment.frag through shaders/havs_fragment_harness.frag), its two
-// parts separately: havs_fragment_entry (face constants -> entry) and havs_kbuffer (stored entries, framebuffer
-// colour, incoming entry -> written entries and colour); and havs_seed_side / havs_seed_entry (interpolated
-// varyings -> entry). GlHavsArbHarness: the seed's own ARB fragment program (shaders/havs_seed.fp), whole.
-// Twins: shaders/havs_fragment_harness.frag (its mains); emulated stage gpu/havs/havs_fragment.h; GL uniforms
-// gpu/havs/gl_havs_fragment.h. Tests only (library uvr_gl_harness).
+// attachments read back with glReadPixels (exact for RGBA32F attachments). Large batches go in chunks of kHarnessWidth
+// x kHarnessRows cases. Stages: HAVS's fragment program (shaders/havs_fragment.frag through
+// shaders/havs_fragment_harness.frag), its two parts separately: havs_fragment_entry (face constants -> entry) and
+// havs_kbuffer (stored entries, framebuffer colour, incoming entry -> written entries and colour); and havs_paper_side
+// / havs_paper_entry (interpolated varyings -> entry). GlHavsArbHarness: the paper's own ARB fragment program
+// (shaders/havs_paper.fp), whole. Twins: shaders/havs_fragment_harness.frag (its mains); emulated stage
+// gpu/havs/havs_fragment.h; GL uniforms gpu/havs/gl_havs_fragment.h. Tests only (library uvr_gl_harness).
 #pragma once
 
 #include <cstdint>
@@ -63,25 +62,26 @@ public:
     std::vector<KEntry> run_entry(const HavsFrameConstants& fc, const std::vector<HavsFace>& faces,
                                   const std::vector<glm::ivec2>& pixels, std::vector<glm::dvec2>* values = nullptr);
 
-    // --interpolation gpu: havs_seed_entry(fc, v[i]) with the side havs_seed_side(v[i].side, corners[i]) for every
+    // --interpolation gpu: havs_paper_entry(fc, v[i]) with the side havs_paper_side(v[i].side, corners[i]) for every
     // i: (x, distance, side) per case.
-    std::vector<glm::vec4> run_seed(const HavsFrameConstants& fc, const std::vector<HavsVaryings>& v,
-                                    const std::vector<glm::vec3>& corners);
+    std::vector<glm::vec4> run_paper(const HavsFrameConstants& fc, const std::vector<HavsVaryings>& v,
+                                     const std::vector<glm::vec3>& corners);
 
 private:
     GlContext& ctx_;
     GLuint vao_ = 0;
-    std::map<std::pair<int, int>, std::unique_ptr<GlProgram>> programs_;  // (k; 0 entry, -1 seed; shade mode)
+    std::map<std::pair<int, int>, std::unique_ptr<GlProgram>>
+        programs_;  // (k; 0 entry, -1 the paper's entry; shade mode)
     GLuint table_texture_ = 0;
 
     const GlProgram& program(int k, int mode);
     void upload_table(const PreintegrationTable& table);
 };
 
-// The seed's ARB fragment program (shaders/havs_seed.fp) alone, k = 6, on a compatibility-profile context: one case
+// The paper's ARB fragment program (shaders/havs_paper.fp) alone, k = 6, on a compatibility-profile context: one case
 // a pixel, drawn as a point of size 1 at the pixel centre (clip w = 1) through a pass-through ARB vertex program, so
 // that the fragment receives its texture coordinates unchanged; the framebuffer colour and the stored entries are the
-// initial contents of textures 0-3, which are also the render targets (the seed's read-modify-write).
+// initial contents of textures 0-3, which are also the render targets (the paper's read-modify-write).
 struct ArbKBufferCases {
     std::vector<float> scalar;           // texture coordinate 0's x (the incoming scalar), one per case
     std::vector<glm::vec3> eye;          // texture coordinate 1 (the eye-space position), one per case

@@ -12,6 +12,7 @@
 
 #include "gpu/gl/gl_draw_throttle.h"
 #include "gpu/havs/havs.h"
+#include "reference/timing.h"
 
 namespace uvr::gpu {
 
@@ -26,10 +27,6 @@ template <class Upload, class Draw>
 void draw_havs_chunks(const GlContext& ctx, const HavsMesh& hm, const HavsFrameSetup& fs, std::size_t chunk,
                       TriangleSubmission submission, HavsStats& st, Upload&& upload, Draw&& draw)
 {
-    using Clock = std::chrono::steady_clock;
-    const auto ms_since = [](Clock::time_point t0) {
-        return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    };
     const std::size_t ntris = fs.draw.size();
     std::vector<uint32_t> sent;  // a draw's triangles as sent
     GlDrawThrottle throttle(ctx, kDrawsInFlight);
@@ -48,7 +45,7 @@ void draw_havs_chunks(const GlContext& ctx, const HavsMesh& hm, const HavsFrameS
     }
 }
 
-// The seed's vertices: each sent triangle as three unshared vertices, `make(id, v, out)` writing draw id `id`'s
+// The paper's vertices: each sent triangle as three unshared vertices, `make(id, v, out)` writing draw id `id`'s
 // (frame vertices v[0..2]) to out[0..2] in parallel, uploaded with glBufferData to the bound GL_ARRAY_BUFFER and drawn
 // with glDrawArrays; `after_draw()` runs after each draw call.
 template <class Vertex, class Make, class AfterDraw>

@@ -95,20 +95,20 @@ HavsVaryings havs_varyings_at(const HavsVaryingPlanes& p, int px, int py, Viewpo
     HavsVaryings v;
     v.eye = glm::vec3(smooth[0], smooth[1], smooth[2]);
     v.s = smooth[3];
-    v.side = havs_seed_side(p.side, glm::vec3(corner[0], corner[1], corner[2]));
+    v.side = havs_paper_side(p.side, glm::vec3(corner[0], corner[1], corner[2]));
     return v;
 }
 
-float havs_seed_side(float side, const glm::vec3& corner)
+float havs_paper_side(float side, const glm::vec3& corner)
 {
     const bool outside = corner.x < 0.0f || corner.y < 0.0f || corner.z < 0.0f;
     return side == kSideInterior && outside ? kSideOutside : side;
 }
 
-KEntry havs_seed_entry(const HavsFrameConstants& fc, const HavsVaryings& v)
+KEntry havs_paper_entry(const HavsFrameConstants& fc, const HavsVaryings& v)
 {
     // DP3 t, e, e: llvmpipe lowers the dot product to ((z * z) + (y * y)) + (x * x), unfused (lower_fdot splits it
-    // from the last component; lower_ffma32 keeps multiply and add apart: docs/havs-seed-research.md), and the shader
+    // from the last component; lower_ffma32 keeps multiply and add apart: docs/havs-arb.md "Compilation"), and the shader
     // writes it in that order. RSQ: inversesqrt is 1 / sqrt(t), two roundings (lp_build_rsqrt's estimate is compiled
     // out). MUL: t * rsq(t) = |e|.
     float distance;
@@ -121,7 +121,7 @@ KEntry havs_seed_entry(const HavsFrameConstants& fc, const HavsVaryings& v)
         const float rsq = 1.0f / root;
         distance = t * rsq;
     }
-    if (fc.seed_entries) return KEntry{v.s, distance};  // MOV a0.x, v.x
+    if (fc.paper_entries) return KEntry{v.s, distance};  // MOV a0.x, v.x
     // The scalar clamped as in havs_fragment_values (comparisons: a NaN stays NaN), then side * (1 + s) in float.
     const float s = v.s < 0.0f ? 0.0f : v.s > 1.0f ? 1.0f : v.s;
     const float one_plus_s = 1.0f + s;

@@ -1,10 +1,10 @@
-// HAVS's fragment stage (seed 000, Appendix II), emulated operation by operation, in two parts as in the shader:
-// the fragment's entry (--interpolation gpu: havs_varyings_at / havs_seed_side / havs_seed_entry, the seed's DP3,
+// HAVS's fragment stage (the HAVS paper, Appendix II), emulated operation by operation, in two parts as in the shader:
+// the fragment's entry (--interpolation gpu: havs_varyings_at / havs_paper_side / havs_paper_entry, the paper's DP3,
 // RSQ, MUL on the interpolated varyings in float32; exact: havs_fragment_values / havs_fragment_entry, a face's flat
 // HavsFace in double) and havs_kbuffer (the incoming entry, the k stored entries, the framebuffer colour, a
 // SegmentShader -> the written entries and colour, in float32, or a kill).
 // Twins: shaders/havs_fragment.frag; GL uniforms gpu/havs/gl_havs_fragment.h; harness gpu/havs/gl_havs_harness.h.
-// Derivation: docs/havs.md, "The seed's interpolation", "Exact interpolation", "The two parts" and "The entry
+// Derivation: docs/havs.md, "The paper's interpolation", "Exact interpolation", "The two parts" and "The entry
 // encoding" (the sides kSideExit, kSideEntry, kSideOutside, kSideInterior; empty and flush entries).
 #pragma once
 
@@ -28,22 +28,25 @@ struct KEntry {
 };
 inline constexpr KEntry kEmptyEntry{-1.0f, 0.0f};
 inline constexpr KEntry kFlushFragment{-1.0f, __builtin_inff()};
-// --entries seed (the program as the seed prints it, which the ARB witness runs): an entry's x is the interpolated
-// scalar itself, an exit face's vertices carry seed_exit_scalar(s) < 0, a segment is nullified only when its front is
-// negative, and the flush fragment lies at 2^60: what the seed's DP3/RSQ/MUL give the ARB flush quads' eye position
+// --entries paper (the program as the paper prints it, which the ARB witness runs): an entry's x is the interpolated
+// scalar itself, an exit face's vertices carry paper_exit_scalar(s) < 0, a segment is nullified only when its front is
+// negative, and the flush fragment lies at 2^60: what the paper's DP3/RSQ/MUL give the ARB flush quads' eye position
 // (0, 0, 2^60) exactly (a square of 2^120, its root and reciprocal are powers of two). docs/havs-arb.md.
-inline constexpr KEntry kSeedFlushFragment{-1.0f, 0x1p60f};
-inline float seed_exit_scalar(float s) { return -1.0f - s; }
+inline constexpr KEntry kPaperFlushFragment{-1.0f, 0x1p60f};
+inline float paper_exit_scalar(float s)
+{
+    return -1.0f - s;
+}
 
 // Per-frame constants (uniforms).
 struct HavsFrameConstants {
     double two_over_width = 0.0, two_over_height = 0.0;  // gl_FragCoord -> NDC: ndc = coord * (2 / size) - 1
     double origin_x = 0.0, origin_y = 0.0;   // orthographic: half width and half height of the view; perspective: 0
     float threshold = 0.99f;                 // the opacity kill (KIL 0.99 - alpha)
-    float length_scale = 0.0f, length_bias = 0.0f;  // the seed's sz.z and sz.w
+    float length_scale = 0.0f, length_bias = 0.0f;  // the paper's sz.z and sz.w
     float max_gap = 0.0f;  // segments longer than this contribute nothing (the longest edge; 0 = no limit)
-    bool orthographic = false;  // --interpolation gpu: the distance along parallel rays is -z (havs_seed_entry)
-    bool seed_entries = false;  // --entries seed (kSeedFlushFragment)
+    bool orthographic = false;   // --interpolation gpu: the distance along parallel rays is -z (havs_paper_entry)
+    bool paper_entries = false;  // --entries paper (kPaperFlushFragment)
 };
 
 // Per-face constants (flat), computed by the CPU stage (havs_setup.cpp) in double. The window coordinates stay
@@ -83,8 +86,8 @@ inline constexpr int kSnappedEdgeBits = 47;
 
 // The fragment values in double before the k-buffer stores them as float32: x = side * (1 + s_n) and the distance;
 // `snapped` says whether the weights came from the snapped vertices (kOutsideTolerance), `outside` whether the pixel
-// centre lies outside the face's triangle at all (then an interior face's side becomes kSideOutside). The GL stage test compares
-// the shader's doubles with these.
+// centre lies outside the face's triangle at all (then an interior face's side becomes kSideOutside). The GL stage test
+// compares the shader's doubles with these.
 struct FragmentValues {
     double x = 0.0, distance = 0.0;
     bool snapped = false;
@@ -99,9 +102,10 @@ FragmentValues havs_fragment_values(const HavsFrameConstants& fc, const HavsFace
 KEntry havs_fragment_entry(const HavsFrameConstants& fc, const HavsFace& face, int px, int py,
                            bool covered_exactly = false);
 
-// --interpolation gpu (the seed's pipeline, SPEC §7): what the seed's fragment program receives, as the rasterizer
-// interpolated it: the eye-space position (texture coordinate 1, smooth), the normalized scalar (texture coordinate
-// 0, smooth) and the face's side (a flat attribute: kSideExit, kSideInterior, or kSideEntry once the facing is known).
+// --interpolation gpu (the paper's pipeline, docs/spec.md §7): what the paper's fragment program receives, as the
+// rasterizer interpolated it: the eye-space position (texture coordinate 1, smooth), the normalized scalar (texture
+// coordinate 0, smooth) and the face's side (a flat attribute: kSideExit, kSideInterior, or kSideEntry once the facing
+// is known).
 struct HavsVaryings {
     glm::vec3 eye{0.0f};
     float s = 0.0f;
@@ -124,12 +128,12 @@ HavsVaryings havs_varyings_at(const HavsVaryingPlanes& planes, int px, int py, V
 
 // The side of a fragment whose corner weights (the noperspective (1,0,0), (0,1,0), (0,0,1) of its triangle) are
 // `corner`: an interior face's becomes kSideOutside where one is below 0.
-float havs_seed_side(float side, const glm::vec3& corner);
+float havs_paper_side(float side, const glm::vec3& corner);
 
-// The seed's fragment values in float32 from the varyings: the distance |e| by DP3, RSQ, MUL (t = e.e, then
-// t * (1 / sqrt(t))), or -e.z under an orthographic view (the seed is perspective only: docs/havs.md); the entry
-// side * (1 + s) with s clamped to [0, 1] as in havs_fragment_values; with seed_entries the scalar itself.
-KEntry havs_seed_entry(const HavsFrameConstants& fc, const HavsVaryings& v);
+// The paper's fragment values in float32 from the varyings: the distance |e| by DP3, RSQ, MUL (t = e.e, then
+// t * (1 / sqrt(t))), or -e.z under an orthographic view (the paper is perspective only: docs/havs.md); the entry
+// side * (1 + s) with s clamped to [0, 1] as in havs_fragment_values; with paper_entries the scalar itself.
+KEntry havs_paper_entry(const HavsFrameConstants& fc, const HavsVaryings& v);
 
 struct KBufferDiagnostics {
     uint32_t fragments = 0;        // fragments that reached the program (flush passes not counted)
@@ -138,8 +142,7 @@ struct KBufferDiagnostics {
     float last_back = 0.0f;        // back distance of the last composited segment (bookkeeping)
 };
 
-
-// One run of the fragment program on one pixel. `entries` holds the k stored entries (a1..ak of the seed). Returns
+// One run of the fragment program on one pixel. `entries` holds the k stored entries (a1..ak of the paper). Returns
 // false when the fragment is killed (the framebuffer's alpha is above the threshold) or k < 1: nothing is written.
 bool havs_kbuffer(const HavsFrameConstants& fc, KEntry incoming, KEntry* entries, int k, glm::vec4& framebuffer,
                   const SegmentShader& shade, KBufferDiagnostics* diag);

@@ -1,10 +1,10 @@
-// HAVS's k-buffer program (seed 000, Appendix II; the second part of havs_fragment.h's fragment stage), a template
-// over the stored-entry count K (0: k given at run time) and the segment shader's type, and the flush after it.
-// havs_kbuffer and havs_flush (havs_fragment.h) are their run-time k, SegmentShader instances (run_any_k: the chains
-// branch); the emulated frame (havs.cpp) also runs the program for the seed's k = 6 with the table's usual path
-// (TableSegmentShader: chains unrolled, selecting by conditional moves, the sample called directly), and the flush
-// with that shader. The same operations, so the same bits (tests/test_havs_kbuffer.cpp). Derivation: docs/havs.md;
-// speed: docs/gl-backend.md, "Speed".
+// HAVS's k-buffer program (the HAVS paper, Appendix II; the second part of havs_fragment.h's fragment stage), a
+// template over the stored-entry count K (0: k given at run time) and the segment shader's type, and the flush after
+// it. havs_kbuffer and havs_flush (havs_fragment.h) are their run-time k, SegmentShader instances (run_any_k: the
+// chains branch); the emulated frame (havs.cpp) also runs the program for the paper's k = 6 with the table's usual path
+// (TableSegmentShader: chains unrolled, selecting by conditional moves, the sample called directly), and the flush with
+// that shader. The same operations, so the same bits (tests/test_havs_kbuffer.cpp). Derivation: docs/havs.md; speed:
+// docs/gl-backend.md, "Speed".
 #pragma once
 
 #include <algorithm>
@@ -17,8 +17,8 @@
 
 namespace uvr::gpu::kbuffer_program {
 
-// The seed's k (three RGBA textures of two entries each), the k the emulated frame instantiates the program for.
-inline constexpr int kSeedK = 6;
+// The paper's k (three RGBA textures of two entries each), the k the emulated frame instantiates the program for.
+inline constexpr int kPaperK = 6;
 
 // The program's scratch on the stack holds this many entries (2 KiB, as before k was unbounded: the old limit of 255
 // plus the incoming fragment); a larger run-time k takes a per-thread buffer.
@@ -28,7 +28,7 @@ inline constexpr int kStackEntries = 256;
 // havs_real_entry in shaders/havs_fragment.frag).
 inline bool real_entry(const HavsFrameConstants& fc, const KEntry& e)
 {
-    return e.y > 0.0f && e.y < (fc.seed_entries ? kSeedFlushFragment.y : kFlushFragment.y);
+    return e.y > 0.0f && e.y < (fc.paper_entries ? kPaperFlushFragment.y : kFlushFragment.y);
 }
 
 // The normalized scalar of an entry (see the entry encoding in havs_fragment.h).
@@ -48,8 +48,8 @@ bool composite_segment(const HavsFrameConstants& fc, KEntry front, KEntry second
     // scalar is negative (a gap, an empty or a flush entry) and, with --gaps maxgap, when it is longer than the gap.
     const float length = second.y - front.y;
     glm::vec4 c(0.0f);
-    if (fc.seed_entries) {
-        // --entries seed: CMP c, r0.x, 0.0, c alone, and the scalars are the table's coordinates as they are.
+    if (fc.paper_entries) {
+        // --entries paper: CMP c, r0.x, 0.0, c alone, and the scalars are the table's coordinates as they are.
         if (!(front.x < 0.0f)) c = shade(front.x, second.x, length * fc.length_scale + fc.length_bias, length);
     } else {
         // A segment that ends on a flush fragment (distance +inf) never lies inside the mesh: it starts on the last
@@ -76,7 +76,7 @@ bool composite_segment(const HavsFrameConstants& fc, KEntry front, KEntry second
     const float one_minus_a = 1.0f - fb.a;
     fb = glm::vec4(c.r * one_minus_a + fb.r, c.g * one_minus_a + fb.g, c.b * one_minus_a + fb.b,
                    c.a * one_minus_a + fb.a);
-    if (fc.seed_entries) return false;  // the seed's program re-marks nothing
+    if (fc.paper_entries) return false;  // the paper's program re-marks nothing
     // Exact gaps: behind an exit face the ray is outside the mesh until it meets an entry face. Rasterization can put
     // a fragment there: a pixel just past the edge where interior faces meet the exit face is covered through
     // snapping, and their planes, extrapolated at a grazing angle, place the fragment a little behind the exit (2e-5
@@ -121,9 +121,9 @@ template <class Shade>
 bool run_any_k(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& fb, const Shade& shade,
                KBufferDiagnostics* diag)
 {
-    // Find the entry with the smallest distance (r0); the others go to r1..rk. The seed's CMP: on t < 0 the running
+    // Find the entry with the smallest distance (r0); the others go to r1..rk. The paper's CMP: on t < 0 the running
     // minimum stays; otherwise (ties included) the stored entry becomes the minimum and the running one moves on, so
-    // on a tie the entry already in the buffer is composited first. t is the seed's difference, not a comparison of
+    // on a tie the entry already in the buffer is composited first. t is the paper's difference, not a comparison of
     // the two distances: with denormals flushed a tiny difference is 0, and inf - inf is NaN.
     // r is scratch for k + 1 entries, plain floats (x and y apart, as the chains read the distances alone), so that
     // no call pays for initializing them: on the stack up to kStackEntries, beyond that per thread, kept between calls.
@@ -150,7 +150,7 @@ bool run_any_k(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::v
             ry[0] = a[i - 1].y;
         }
     }
-    // The second smallest (r7 of the seed) among r1..rk, by the same chain; it stays in the buffer.
+    // The second smallest (r7 of the paper) among r1..rk, by the same chain; it stays in the buffer.
     int second_i = 1;
     for (int i = 2; i <= k; ++i) {
         const float t = ry[second_i] - ry[i];
@@ -176,7 +176,7 @@ bool run(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& f
     static_assert(K >= 0);
     if constexpr (K > 0) k = K;
     if (k < 1) return false;  // no stored entry to composite with: the renderers refuse such a k (--k)
-    // KIL (threshold - alpha): the seed kills the fragment once the pixel is opaque enough; nothing is written.
+    // KIL (threshold - alpha): the paper kills the fragment once the pixel is opaque enough; nothing is written.
     if (fc.threshold - fb.a < 0.0f) return false;
     if (diag && real_entry(fc, a0)) ++diag->fragments;
     if constexpr (K == 0) {
@@ -190,7 +190,7 @@ bool run(const HavsFrameConstants& fc, KEntry a0, KEntry* a, int k, glm::vec4& f
         for (int i = 1; i <= K; ++i) {
             const uint64_t ai = entry_bits(a[i - 1]);
             const float di = a[i - 1].y;
-            const bool keep = d0 - di < 0.0f;  // the seed's t < 0
+            const bool keep = d0 - di < 0.0f;  // the paper's t < 0
             r[i] = keep ? ai : r0;
             r0 = keep ? r0 : ai;
             d0 = keep ? d0 : di;
@@ -224,14 +224,14 @@ template <class EntryAt, class Shade>
 void composite_in_order(const HavsFrameConstants& fc, int n, const EntryAt& entry_at, glm::vec4& fb,
                         const Shade& shade, KBufferDiagnostics* diag)
 {
-    const KEntry flush = fc.seed_entries ? kSeedFlushFragment : kFlushFragment;
+    const KEntry flush = fc.paper_entries ? kPaperFlushFragment : kFlushFragment;
     if (n < 1) return;
     KEntry front = entry_at(0);
     for (int pass = 0; pass < n; ++pass) {
         if (fc.threshold - fb.a < 0.0f) return;  // KIL: this run and every later one write nothing
-        // Once the front is a flush fragment, so is every later entry: the runs composite nothing. (The seed's
+        // Once the front is a flush fragment, so is every later entry: the runs composite nothing. (The paper's
         // entries run them: their MAD of a zero colour turns a -0 channel into +0, as the ARB program does.)
-        if (!fc.seed_entries && std::isinf(front.y)) return;
+        if (!fc.paper_entries && std::isinf(front.y)) return;
         KEntry second = pass + 1 < n ? entry_at(pass + 1) : flush;
         if (composite_segment(fc, front, second, fb, shade, diag)) second.x = -second.x;
         front = second;
@@ -248,7 +248,7 @@ void flush(const HavsFrameConstants& fc, const KEntry* a, int k, glm::vec4& fb, 
     // order of entries at one distance from run to run); each run's second entry is the next run's front. A
     // distance that is NaN, or not nearer than the flush fragment, breaks that order: then the k runs are made as
     // they are. Derivation: docs/havs.md, "The flush".
-    const KEntry flush = fc.seed_entries ? kSeedFlushFragment : kFlushFragment;
+    const KEntry flush = fc.paper_entries ? kPaperFlushFragment : kFlushFragment;
     thread_local std::vector<uint32_t> order;
     order.resize(std::size_t(k));
     for (int i = 0; i < k; ++i) {

@@ -64,7 +64,7 @@ public:
                 by_pixel[next[pixel_[i]]++] = entry_[i];
             }
         }
-        const float flush_y = fc.seed_entries ? kSeedFlushFragment.y : kFlushFragment.y;
+        const float flush_y = fc.paper_entries ? kPaperFlushFragment.y : kFlushFragment.y;
         std::vector<uint64_t> keys;
         std::vector<KEntry> sorted;
         for (int local = 0; local < kTilePixels; ++local) {

@@ -11,13 +11,9 @@
 #include "gpu/pipeline/face_sort.h"
 #include "reference/error.h"
 #include "reference/field.h"
+#include "reference/timing.h"
 
 namespace uvr::gpu {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-}  // namespace
 
 HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
                    const HavsOptions& options)
@@ -27,11 +23,12 @@ HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t fi
     const double span = range_.hi > range_.lo ? range_.hi - range_.lo : 1.0;
     for (double s : mesh_.fields[drawn_mesh_.field()].values) scalar_n_.push_back((s - range_.lo) / span);
     add_faces(drawn_mesh_.topology());
-    if (options_.entries == EntryEncoding::seed &&
+    if (options_.entries == EntryEncoding::paper &&
         (options_.interpolation != InterpolationMode::gpu || options_.gaps != GapMode::exact))
-        throw InputError("", "--entries seed needs the seed's interpolation (--interpolation gpu) and exact gaps "
-                             "(--gaps exact): it marks exit faces by a negative scalar, and the seed's program has "
-                             "no maximum-gap rule");
+        throw InputError("",
+                         "--entries paper needs the paper's interpolation (--interpolation gpu) and exact gaps "
+                         "(--gaps exact): it marks exit faces by a negative scalar, and the paper's program has "
+                         "no maximum-gap rule");
     longest_edge_ = longest_tet_edge(mesh_);
     if (!(options_.table_max_length > 0.0)) options_.table_max_length = longest_edge_;
     if (options_.segment == SegmentMode::table)
@@ -113,60 +110,57 @@ private:
 
 }  // namespace
 
-HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width, int height)
+namespace {
+
+// The faces front to back by squared centroid distance (fs.points_f: relative to the eye).
+std::vector<uint32_t> sorted_faces(const HavsMesh& hm, const HavsFrameSetup& fs)
 {
-    HavsFrameSetup fs;
-    fs.camera = cam;
-    fs.width = width;
-    fs.height = height;
-    const TetMesh& mesh = hm.mesh();
-    const std::size_t npts = mesh.points.size();
-    fs.mesh_faces = uint32_t(hm.face_count());
-
-    // The frame's vertex buffer: positions relative to the eye, in float. Relative to the eye, a clip coordinate's
-    // float rounding is a fixed fraction of its w, however near the eye the point lies or far the mesh from the
-    // world's origin (coordinates at 1e8 with features at 1e-3 keep their features), as the clip stage needs.
-    auto t0 = Clock::now();
-    fs.points_f.resize(npts);
-    tbb::parallel_for(std::size_t(0), npts, [&](std::size_t i) { fs.points_f[i] = glm::vec3(mesh.points[i] - cam.eye); });
-
-    // Sort the faces front to back by squared centroid distance.
     std::vector<float> keys;
     std::vector<uint32_t> order, scratch;
     face_sort_keys(fs.points_f, hm.faces(), glm::vec3(0.0f), keys);
     radix_sort_faces(keys, order, scratch);
-    fs.sort_ms = ms_since(t0);
+    return order;
+}
 
-    // The vertex stage for every point, and which planes of the clip stage each point lies outside of.
-    t0 = Clock::now();
-    fs.view = view_setup(cam, width, height, mesh_bounds(mesh), cam.eye);
-    // --interpolation gpu runs the seed's vertex program: DP4 rows on the driver's product (clip_position.h).
-    if (hm.options().interpolation == InterpolationMode::gpu) fs.view.program = VertexProgram::seed;
-    const ClipPlanes planes = inner_clip_planes(width, height);
+// The vertex stage for every point, and which planes of the clip stage each point lies outside of (`codes`) and
+// whether it lies outside the GPU's own frustum (`gpu_outside`).
+void vertex_stage(const HavsMesh& hm, const ClipPlanes& planes, HavsFrameSetup& fs, std::vector<uint8_t>& codes,
+                  std::vector<uint8_t>& gpu_outside)
+{
+    const TetMesh& mesh = hm.mesh();
+    const Camera& cam = fs.camera;
+    const std::size_t npts = mesh.points.size();
+    fs.view = view_setup(cam, fs.width, fs.height, mesh_bounds(mesh), cam.eye);
+    // --interpolation gpu runs the paper's vertex program: DP4 rows on the driver's product (clip_position.h).
+    if (hm.options().interpolation == InterpolationMode::gpu) fs.view.program = VertexProgram::published;
     const CameraFrame frame = camera_frame(cam);
-    const Framebuffer fbuf{width, height, RenderTarget::fbo};
+    const Framebuffer fbuf{fs.width, fs.height, RenderTarget::fbo};
     fs.win.resize(npts);
     fs.win_d.resize(npts);
     fs.eye.resize(npts);
-    std::vector<uint8_t> codes(npts), gpu_outside(npts);
+    codes.resize(npts);
+    gpu_outside.resize(npts);
     tbb::parallel_for(std::size_t(0), npts, [&](std::size_t i) {
         const auto clip = vertex_position(fs.view, fs.points_f[i]);
         fs.win[i] = viewport_transform(clip.data(), fbuf);
         const glm::dvec3 d = mesh.points[i] - cam.eye;
-        window_position_d(fs.view, d, width, height, fs.win_d[i].x, fs.win_d[i].y, fs.win_d[i].z);
+        window_position_d(fs.view, d, fs.width, fs.height, fs.win_d[i].x, fs.win_d[i].y, fs.win_d[i].z);
         fs.eye[i] = eye_space(frame, d);
         codes[i] = uint8_t(outcode(planes, clip_vertex(fs.view, d, 0.0).c));
         gpu_outside[i] = outside_gpu_frustum(clip) ? 1 : 0;
     });
-    fs.vertex_ms = ms_since(t0);
+}
 
-    // The clip stage. First the near plane's sections of the cells it cuts (the nearest surfaces, in cell order), then
-    // the faces in sorted order: inside every plane as they are, wholly outside one plane not at all, the others as
-    // the fans of their clipped polygons.
-    t0 = Clock::now();
+// The clip stage. First the near plane's sections of the cells it cuts (the nearest surfaces, in cell order), then
+// the faces in sorted order: inside every plane as they are, wholly outside one plane not at all, the others as the
+// fans of their clipped polygons.
+void clip_stage(const HavsMesh& hm, const ClipPlanes& planes, const std::vector<uint32_t>& order,
+                const std::vector<uint8_t>& codes, const std::vector<uint8_t>& gpu_outside, HavsFrameSetup& fs)
+{
+    const TetMesh& mesh = hm.mesh();
     FrameVertices frame_vertices(fs, gpu_outside);
     auto clip_vertex_of = [&](uint32_t i) {
-        ClipVertex v = clip_vertex(fs.view, mesh.points[i] - cam.eye, hm.scalar_n(i));
+        ClipVertex v = clip_vertex(fs.view, mesh.points[i] - fs.camera.eye, hm.scalar_n(i));
         v.id = i;
         return v;
     };
@@ -202,16 +196,12 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
             frame_vertices.draw_fan(poly, f);
         }
     }
-    fs.clip_ms = ms_since(t0);
+}
 
-    // The seed's scalar attribute for every frame vertex (--interpolation gpu).
-    if (hm.options().interpolation == InterpolationMode::gpu) {
-        fs.s_f.resize(fs.points_f.size());
-        for (std::size_t i = 0; i < fs.s_f.size(); ++i)
-            fs.s_f[i] = float(i < npts ? hm.scalar_n(i) : fs.extra_s[i - npts]);
-    }
-
-    HavsFrameConstants& fc = fs.constants;
+// The constants every fragment of the frame reads.
+HavsFrameConstants frame_constants(const HavsMesh& hm, const Camera& cam, int width, int height)
+{
+    HavsFrameConstants fc;
     fc.two_over_width = 2.0 / double(width);
     fc.two_over_height = 2.0 / double(height);
     const double aspect = double(width) / double(height);
@@ -221,26 +211,69 @@ HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width
         fc.origin_y = 0.5 * cam.ortho_height;
     }
     fc.threshold = hm.options().threshold;
-    fc.seed_entries = hm.options().entries == EntryEncoding::seed;
+    fc.paper_entries = hm.options().entries == EntryEncoding::paper;
     if (const PreintegrationTable* table = hm.table()) {
         fc.length_scale = table->length_scale();
         fc.length_bias = table->length_bias();
     }
     // --gaps maxgap (VTK's heuristic): a segment longer than the mesh's longest edge contributes nothing, since
-    // consecutive fragments inside the mesh lie in one tetrahedron and a longer segment can only span a gap. Exact
-    // gaps use the exit-face marks alone (0: no limit), so that SPEC §6's comparison of the two compares the rules and
-    // not the heuristic with itself plus more: a real segment longer than the longest edge (an ordering error's, when
-    // k is too small) is composited.
+    // consecutive fragments inside the mesh lie in one tetrahedron and a longer segment can only span a gap. Exact gaps
+    // use the exit-face marks alone (0: no limit), so that docs/spec.md §6's comparison of the two compares the rules
+    // and not the heuristic with itself plus more: a real segment longer than the longest edge (an ordering error's,
+    // when k is too small) is composited.
     fc.max_gap = hm.options().gaps == GapMode::maxgap ? float(hm.longest_edge()) : 0.0f;
+    return fc;
+}
+
+}  // namespace
+
+HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& cam, int width, int height)
+{
+    HavsFrameSetup fs;
+    fs.camera = cam;
+    fs.width = width;
+    fs.height = height;
+    const TetMesh& mesh = hm.mesh();
+    const std::size_t npts = mesh.points.size();
+    fs.mesh_faces = uint32_t(hm.face_count());
+
+    // The frame's vertex buffer: positions relative to the eye, in float. Relative to the eye, a clip coordinate's
+    // float rounding is a fixed fraction of its w, however near the eye the point lies or far the mesh from the
+    // world's origin (coordinates at 1e8 with features at 1e-3 keep their features), as the clip stage needs. Then
+    // the faces sorted.
+    auto t0 = Clock::now();
+    fs.points_f.resize(npts);
+    tbb::parallel_for(std::size_t(0), npts,
+                      [&](std::size_t i) { fs.points_f[i] = glm::vec3(mesh.points[i] - cam.eye); });
+    const std::vector<uint32_t> order = sorted_faces(hm, fs);
+    fs.sort_ms = ms_since(t0);
+
+    t0 = Clock::now();
+    const ClipPlanes planes = inner_clip_planes(width, height);
+    std::vector<uint8_t> codes, gpu_outside;
+    vertex_stage(hm, planes, fs, codes, gpu_outside);
+    fs.vertex_ms = ms_since(t0);
+
+    t0 = Clock::now();
+    clip_stage(hm, planes, order, codes, gpu_outside, fs);
+    fs.clip_ms = ms_since(t0);
+
+    // The paper's scalar attribute for every frame vertex (--interpolation gpu).
+    if (hm.options().interpolation == InterpolationMode::gpu) {
+        fs.s_f.resize(fs.points_f.size());
+        for (std::size_t i = 0; i < fs.s_f.size(); ++i)
+            fs.s_f[i] = float(i < npts ? hm.scalar_n(i) : fs.extra_s[i - npts]);
+    }
+    fs.constants = frame_constants(hm, cam, width, height);
     return fs;
 }
 
-HavsSeedVertices havs_seed_vertices(const HavsFrameSetup& fs)
+HavsPaperVertices havs_paper_vertices(const HavsFrameSetup& fs)
 {
-    // The clip position as the seed's vertex program computes it (setup_vertex: the window position and 1 / w), and
+    // The clip position as the paper's vertex program computes it (setup_vertex: the window position and 1 / w), and
     // the eye-space position by the same DP4s with state.matrix.modelview.
     const Framebuffer fbuf{fs.width, fs.height, RenderTarget::fbo};
-    HavsSeedVertices out;
+    HavsPaperVertices out;
     out.eye.resize(fs.points_f.size());
     out.setup.resize(fs.points_f.size());
     tbb::parallel_for(std::size_t(0), fs.points_f.size(), [&](std::size_t i) {
@@ -274,7 +307,7 @@ float havs_face_side(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id)
     return source != kNearSection && hm.exit_capable(source) ? kSideExit : kSideInterior;
 }
 
-bool havs_seed_exit(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id)
+bool havs_paper_exit(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id)
 {
     if (havs_face_side(hm, fs, id) != kSideExit) return false;
     const uint32_t* v = fs.triangle(hm, id);

@@ -28,21 +28,34 @@
 #include "reference/mesh.h"
 #include "reference/segment_integral.h"
 #include "reference/topology.h"
+#include "reference/choice.h"
 
 namespace uvr::gpu {
 
-enum class GapMode { exact, maxgap };     // --gaps: exit faces marked (exact), or VTK's maximum-gap heuristic
-// --entries: uvr's marked entries (side * (1 + s): exit, entry and extrapolated fragments told apart), or the seed's
+enum class GapMode { exact, maxgap };
+inline constexpr Choices<GapMode, 2> kGapModes{
+    {{GapMode::exact, "exact", "boundary faces marked: a gap between cells contributes nothing"},
+     {GapMode::maxgap, "maxgap", "VTK's heuristic: a segment longer than the longest cell edge is a gap"}}};
+// --entries: uvr's marked entries (side * (1 + s): exit, entry and extrapolated fragments told apart), or the paper's
 // (the scalar itself, an exit face's negative: the program as printed, which the ARB witness runs). docs/havs-arb.md.
-enum class EntryEncoding { marked, seed };
+enum class EntryEncoding { marked, paper };
+inline constexpr Choices<EntryEncoding, 2> kEntryEncodings{
+    {{EntryEncoding::marked, "marked", "exit, entry and extrapolated fragments told apart; default"},
+     {EntryEncoding::paper, "paper",
+      "the HAVS paper's program as printed: the scalar itself, exit faces negative; the default with --backend arb"}}};
+// The spellings --entries had before.
+inline constexpr std::array<RenamedChoice, 1> kEntryEncodingsRenamed{{{"seed", "paper"}}};
 
 // --k all: the k-buffer as deep as each pixel's fragments (every fragment held until the flush; the emulation's
-// only). SPEC §6's exact sort, at the memory of the fragments themselves: gpu/havs/havs_pixel_sort.h.
+// only). docs/spec.md §6's exact sort, at the memory of the fragments themselves: gpu/havs/havs_pixel_sort.h.
 inline constexpr int kEveryFragment = 0;
 // --ties, with --k all: the order of a pixel's fragments at one distance. arrival: the older first, as any k-buffer
-// deeper than the pixel's fragments takes them (the seed's tie); facing: back faces first (a ray leaves a cell before
+// deeper than the pixel's fragments takes them (the paper's tie); facing: back faces first (a ray leaves a cell before
 // it enters the next), exact where a seam's two coincident faces carry different scalars. docs/havs.md, "k = all".
 enum class TieOrder { arrival, facing };
+inline constexpr Choices<TieOrder, 2> kTieOrders{
+    {{TieOrder::arrival, "arrival", "at one distance the older fragment first, as a k-buffer takes them"},
+     {TieOrder::facing, "facing", "back faces first: exact where a seam's coincident faces carry two scalars"}}};
 
 struct HavsOptions {
     int k = 6;  // entries a pixel, or kEveryFragment
@@ -118,9 +131,9 @@ struct HavsFrameSetup {
     std::vector<double> extra_s;       // normalized scalars of the clip stage's vertices
     std::vector<uint32_t> extra;       // 3 frame vertices per extra triangle
     std::vector<uint32_t> extra_face;  // per extra triangle: the mesh face it lies on, or kNearSection
-    // Per frame vertex, the scalar as the seed's vertex program receives it (texture coordinate 0; --interpolation
+    // Per frame vertex, the scalar as the paper's vertex program receives it (texture coordinate 0; --interpolation
     // gpu only). The rest of that program's output the GL driver's shader computes; the emulation takes it from
-    // havs_seed_vertices.
+    // havs_paper_vertices.
     std::vector<float> s_f;
     uint32_t mesh_faces = 0;           // the mesh's face count: the first extra triangle's id
     HavsFrameConstants constants;
@@ -140,14 +153,14 @@ struct HavsFrameSetup {
 // Sorts the faces, runs the vertex stage and the clip stage.
 HavsFrameSetup setup_havs_frame(const HavsMesh& hm, const Camera& camera, int width, int height);
 
-// The seed's vertex program per frame vertex, emulated (--interpolation gpu): the eye-space position (the model-view
+// The paper's vertex program per frame vertex, emulated (--interpolation gpu): the eye-space position (the model-view
 // times the float position, as shaders/havs_vertex.vert computes it) and what triangle setup receives (window
 // position, 1 / w). Only the emulated driver needs them, so the GL driver does not hold them.
-struct HavsSeedVertices {
+struct HavsPaperVertices {
     std::vector<glm::vec3> eye;
     std::vector<SetupVertex> setup;
 };
-HavsSeedVertices havs_seed_vertices(const HavsFrameSetup& fs);
+HavsPaperVertices havs_paper_vertices(const HavsFrameSetup& fs);
 
 // The flat constants of draw id `id`. `side` is kSideExit when it lies on a boundary face (exact gaps): each driver
 // keeps it where the rasterizer sees the triangle back-facing and makes it kSideEntry otherwise (the emulation from its
@@ -155,9 +168,9 @@ HavsSeedVertices havs_seed_vertices(const HavsFrameSetup& fs);
 HavsFace havs_face_constants(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id);
 // The side alone (kSideExit or kSideInterior), for --interpolation gpu, where it travels as a flat attribute.
 float havs_face_side(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id);
-// --entries seed: whether draw id `id` is an exit face, i.e. lies on a boundary face (exact gaps) the rasterizer sees
-// back-facing (the sign of its fixed-point area, setup_triangle): its vertices then carry seed_exit_scalar(s).
-bool havs_seed_exit(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id);
+// --entries paper: whether draw id `id` is an exit face, i.e. lies on a boundary face (exact gaps) the rasterizer sees
+// back-facing (the sign of its fixed-point area, setup_triangle): its vertices then carry paper_exit_scalar(s).
+bool havs_paper_exit(const HavsMesh& hm, const HavsFrameSetup& fs, uint32_t id);
 
 // Runs f(i, v) in parallel (TBB) for every i in [0, count), v being the three frame vertices of draw id ids[i]. In
 // depth order each triangle's vertex indices are a cache miss, so each task fetches them kPrefetchAhead triangles

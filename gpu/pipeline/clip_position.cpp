@@ -49,12 +49,12 @@ Mat4f driver_matrix_product(const Mat4f& a, const Mat4f& b)
 
 std::array<float, 4> vertex_position(const ViewSetup& vs, const glm::vec3& p)
 {
-    return vs.program == VertexProgram::seed ? dp4_position(vs.driver_mvp, p) : clip_position(vs.mvp, p);
+    return vs.program == VertexProgram::published ? dp4_position(vs.driver_mvp, p) : clip_position(vs.mvp, p);
 }
 
 glm::vec3 eye_position(const ViewSetup& vs, const glm::vec3& p)
 {
-    const auto e = vs.program == VertexProgram::seed ? dp4_position(vs.view, p) : clip_position(vs.view, p);
+    const auto e = vs.program == VertexProgram::published ? dp4_position(vs.view, p) : clip_position(vs.view, p);
     return glm::vec3(e[0], e[1], e[2]);
 }
 

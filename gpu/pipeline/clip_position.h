@@ -1,9 +1,9 @@
 // The vertex stage's position in float32, unfused: uvr's program (clip_position: each row ((m0 x + m1 y) + m2 z) + m3)
-// or the seed's ARB program (dp4_position: DP4 as llvmpipe sums it, ((m3 + m2 z) + m1 y) + m0 x, on state.matrix.mvp,
+// or the paper's ARB program (dp4_position: DP4 as llvmpipe sums it, ((m3 + m2 z) + m1 y) + m0 x, on state.matrix.mvp,
 // the driver's float product driver_matrix_product). Input: a matrix and a vertex-buffer position (relative to the
 // setup's origin). Output: the clip (or eye) coordinates. vertex_position / eye_position pick by ViewSetup::program.
 // Twins: shaders/clip_position.vert (compiled in front of havs_vertex.vert and vicp.vert). Docs: docs/rasterizer.md,
-// "The vertex stage"; docs/havs-arb.md, "The seed's vertex program".
+// "The vertex stage"; docs/havs-arb.md, "The published vertex program".
 #pragma once
 
 #include <array>

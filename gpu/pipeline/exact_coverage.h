@@ -1,9 +1,10 @@
-// --coverage exact (SPEC §7), the emulation's stand-in for the rasterizer's coverage: a pixel is covered by a triangle
-// when the ray through its centre crosses it, tested in double on the triangle's window coordinates without snapping.
-// A pixel centre on an edge or a vertex goes to exactly one of the triangles that share it (a fill rule on edge
-// functions computed the same way from either side), so a ray crosses a sheet of faces once, as the reference's walk
-// does. Input: the window coordinates in double and the frame-vertex ids of a triangle; output: its covered pixels.
-// Twins: none (the GPU snaps; this is the variant that removes snapping). Docs: docs/rasterizer.md, "Exact coverage".
+// --coverage exact (docs/spec.md §7), the emulation's stand-in for the rasterizer's coverage: a pixel is covered by a
+// triangle when the ray through its centre crosses it, tested in double on the triangle's window coordinates without
+// snapping. A pixel centre on an edge or a vertex goes to exactly one of the triangles that share it (a fill rule on
+// edge functions computed the same way from either side), so a ray crosses a sheet of faces once, as the reference's
+// walk does. Input: the window coordinates in double and the frame-vertex ids of a triangle; output: its covered
+// pixels. Twins: none (the GPU snaps; this is the variant that removes snapping). Docs: docs/rasterizer.md, "Exact
+// coverage".
 #pragma once
 
 #include <algorithm>
@@ -14,10 +15,14 @@
 
 #include "gpu/pipeline/rasterize.h"
 #include "gpu/pipeline/tiles.h"
+#include "reference/choice.h"
 
 namespace uvr::gpu {
 
-enum class Coverage { gpu, exact };  // --coverage: the rasterizer's (snapped, fixed point), or exact in double
+enum class Coverage { gpu, exact };
+inline constexpr Choices<Coverage, 2> kCoverages{
+    {{Coverage::gpu, "gpu", "the rasterizer's snapped coverage"},
+     {Coverage::exact, "exact", "the ray through the pixel centre crosses the primitive, in double; emulation only"}}};
 
 struct ExactTriangle {
     glm::dvec2 p[3];       // counter-clockwise in window coordinates (y up)

@@ -1,6 +1,6 @@
 // HAVS's CPU stage: the mesh's unique faces sorted every frame, front to back, by the squared distance from the eye to
-// each face's centroid (SPEC §6), with a least-significant-digit radix sort on the float bits, as the original does.
-// Twins: none (CPU stage). Callers: gpu/havs/havs_setup.cpp, and VICP's centroid order (gpu/vicp/vicp_order.cpp).
+// each face's centroid (docs/spec.md §6), with a least-significant-digit radix sort on the float bits, as the original
+// does. Twins: none (CPU stage). Callers: gpu/havs/havs_setup.cpp, and VICP's centroid order (gpu/vicp/vicp_order.cpp).
 #pragma once
 
 #include <cstdint>

@@ -8,14 +8,18 @@
 #pragma once
 
 #include "gpu/pipeline/rasterize.h"
+#include "reference/choice.h"
 
 namespace uvr::gpu {
 
 enum class Qualifier { smooth, noperspective, flat };
 
-// --interpolation: gpu (the fragment's inputs are the rasterizer's interpolated varyings, this stage: the seeds'
-// pipelines, SPEC §7) or exact (computed in double from the ray through the pixel centre: the lab's variant).
+// --interpolation: gpu (the fragment's inputs are the rasterizer's interpolated varyings, this stage: the published
+// pipelines, docs/spec.md §7) or exact (computed in double from the ray through the pixel centre: the lab's variant).
 enum class InterpolationMode { gpu, exact };
+inline constexpr Choices<InterpolationMode, 2> kInterpolationModes{
+    {{InterpolationMode::gpu, "gpu", "the rasterizer's interpolated varyings, the published pipeline; default"},
+     {InterpolationMode::exact, "exact", "the fragment's values in double from the ray through the pixel centre"}}};
 
 // A vertex as llvmpipe's triangle setup receives it (the draw module's viewport transform): the window position in
 // setup space and 1 / w of its clip coordinates.

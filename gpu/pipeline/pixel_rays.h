@@ -1,9 +1,8 @@
-// The rays of a frame's pixels as the fragment programs that compute them in double (VICP's, the ray caster's)
-// receive them: pixel (px, py) of GL window coordinates (row from the bottom) has ndc = (p + 0.5) * (2 / size) - 1 and
-// the ray o = eye + ndc_x * ray_ox + ndc_y * ray_oy, d = ray_d0 + ndc_x * ray_dx + ndc_y * ray_dy (SPEC §2; d is not
-// normalized), in a frame centred on `origin`.
-// Twins: none (CPU stage: it fills the uniforms); shaders/vicp_fragment.frag and shaders/raycast_fragment.frag apply
-// the formula.
+// The rays of a frame's pixels as the fragment programs that compute them in double (VICP's, the ray caster's) receive
+// them: pixel (px, py) of GL window coordinates (row from the bottom) has ndc = (p + 0.5) * (2 / size) - 1 and the ray
+// o = eye + ndc_x * ray_ox + ndc_y * ray_oy, d = ray_d0 + ndc_x * ray_dx + ndc_y * ray_dy (docs/spec.md §2; d is not
+// normalized), in a frame centred on `origin`. Twins: none (CPU stage: it fills the uniforms);
+// shaders/vicp_fragment.frag and shaders/raycast_fragment.frag apply the formula.
 #pragma once
 
 #include <glm/vec3.hpp>

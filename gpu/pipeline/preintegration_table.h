@@ -22,13 +22,13 @@
 namespace uvr::gpu {
 
 // The scalar range a table of `texels` texels per scalar axis spans so that its first and last texel centres hold the
-// data's extreme values: the data's range widened by half a texel at each end. Shaders look the table up by the
-// scalar normalized over this range. Over the data's own range (texel i at s_min + (i + 0.5) / N of the span) the
-// normalized scalars in [0, 0.5 / N] and [1 - 0.5 / N, 1] would clamp to edge texels holding other scalars: an error
-// of order 1 / N wherever values crowd the range's ends (docs/tables.md, "Measured errors"; docs/raycast.md). An
-// empty range is widened to one unit first, as default_transfer_function does. The ray caster's tables use it; HAVS
-// and VICP keep SPEC §1's normalization over the field's own range (measured on the shared meshes, where it does
-// better: docs/tables.md, "The scalar axes' ends").
+// data's extreme values: the data's range widened by half a texel at each end. Shaders look the table up by the scalar
+// normalized over this range. Over the data's own range (texel i at s_min + (i + 0.5) / N of the span) the normalized
+// scalars in [0, 0.5 / N] and [1 - 0.5 / N, 1] would clamp to edge texels holding other scalars: an error of order 1 /
+// N wherever values crowd the range's ends (docs/tables.md, "Measured errors"; docs/raycast.md). An empty range is
+// widened to one unit first, as default_transfer_function does. The ray caster's tables use it; HAVS and VICP keep
+// docs/spec.md §1's normalization over the field's own range (measured on the shared meshes, where it does better:
+// docs/tables.md, "The scalar axes' ends").
 Range texel_centred_range(const Range& data, int texels);
 
 struct PreintegrationConfig {
@@ -57,7 +57,7 @@ public:
 
     // The texture coordinates, in float32. normalized_scalar rounds (s - s_min) / (s_max - s_min), computed in double,
     // to float (how a CPU prepares a vertex attribute); how a shader stage computes its coordinate is that stage's
-    // business. length_scale and length_bias are the seed's sz.z and sz.w rounded to float, and length_coordinate
+    // business. length_scale and length_bias are the published sz.z and sz.w rounded to float, and length_coordinate
     // is t.z = d * sz.z + sz.w in float, fused (one rounding, as an FMA) or not.
     float normalized_scalar(double s) const;
     float length_scale() const { return length_scale_; }  // (1 - 1/L) / max_len

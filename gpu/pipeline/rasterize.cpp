@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "gpu/pipeline/llvmpipe_cpu.h"
+
 namespace uvr::gpu {
 
 namespace {
@@ -36,17 +38,9 @@ int64_t fixed_floor(int64_t v) { return floor_div(v, kFixedOne); }
 
 ViewportArithmetic host_viewport_arithmetic()
 {
-    // gallivm (lp_bld_init.c / lp_bld_misc.cpp) hands LLVM the host's CPU features, "+fma" among them when the CPU
-    // has FMA3; LLVM lowers llvm.fmuladd to vfmadd then and to vmulps + vaddps otherwise.
-#if defined(__x86_64__) || defined(__i386__)
-    static const ViewportArithmetic host = [] {
-        __builtin_cpu_init();  // in case this runs during static initialization, before libgcc's own constructor
-        return __builtin_cpu_supports("fma") ? ViewportArithmetic::fused : ViewportArithmetic::separate;
-    }();
-    return host;
-#else
-    return ViewportArithmetic::separate;
-#endif
+    // gallivm (lp_bld_misc.cpp) hands LLVM "+fma" when Mesa's util_cpu_caps has FMA (llvmpipe_cpu.h: CPUID, then the
+    // environment's overrides); LLVM lowers llvm.fmuladd to vfmadd then and to vmulps + vaddps otherwise.
+    return llvmpipe_cpu_caps().fma ? ViewportArithmetic::fused : ViewportArithmetic::separate;
 }
 
 WindowCoord viewport_transform(const float clip[4], const Framebuffer& fb, ViewportArithmetic arith)

@@ -1,7 +1,7 @@
 // Triangle rasterization as llvmpipe (Mesa 22.3, the OSMesa of Debian 12) performs it, so that the emulated pipeline
 // covers exactly the pixels a GL run covers. Input: clip coordinates (viewport_transform) or setup-space window
 // coordinates (WindowCoord) and a Framebuffer. Output: the covered pixels in GL window coordinates (row from the
-// bottom; spec_row() gives SPEC §2's row) and the facing, from the fixed-point area.
+// bottom; spec_row() gives docs/spec.md §2's row) and the facing, from the fixed-point area.
 // Twins: none in shaders/ (fixed function): the GL counterpart is llvmpipe's own rasterizer, and
 // tests/test_rasterize.cpp keeps OSMesa's coverage of 32 triangles.
 // Derivation: docs/rasterizer.md lists the rules, the Mesa sources they come from, how they were checked against
@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include "reference/choice.h"
 
 namespace uvr::gpu {
 
@@ -95,19 +96,25 @@ void row_span(const TriangleSetup& s, int py, int& first, int& last);
 bool covers_any_pixel(const TriangleSetup& s);
 
 // Which of a frame's triangles a GL driver sends (--send, HAVS and VICP): those that make fragments (they cover a pixel
-// under the rasterizer's snapped coverage; for VICP, front-facing too), or every one, as the seeds do. A triangle that
-// makes no fragment changes no bit of the frame; llvmpipe would set it up, bin it and (VICP's back faces) shade it for
-// nothing (docs/gl-backend.md, "Triangles that cover no pixel"; docs/vicp.md, "Culling").
+// under the rasterizer's snapped coverage; for VICP, front-facing too), or every one, as the publications do. A
+// triangle that makes no fragment changes no bit of the frame; llvmpipe would set it up, bin it and (VICP's back faces)
+// shade it for nothing (docs/gl-backend.md, "Triangles that cover no pixel"; docs/vicp.md, "Culling").
 enum class TriangleSubmission { covered, all };
+inline constexpr Choices<TriangleSubmission, 2> kTriangleSubmissions{
+    {{TriangleSubmission::covered, "covered",
+      "the CPU sends the triangles that make fragments: those that cover a pixel, for VICP front-facing; the same "
+      "image"},
+     {TriangleSubmission::all, "all", "every face, as the publications do"}}};
 // A quick test before setup_triangle: false when no pixel centre lies within the bounding box of the snapped vertices,
 // so that the triangle covers no pixel; true when it may (covers_any_pixel decides).
 bool may_cover_pixel(const WindowCoord v[3]);
 
-// GL row y (from the bottom) <-> SPEC §2 image row (from the top).
+// GL row y (from the bottom) <-> docs/spec.md §2 image row (from the top).
 inline int spec_row(int gl_row, int height) { return height - 1 - gl_row; }
 
 // Visits every pixel of a width x height frame read back from GL (rows from the bottom): f(gl_index, spec_index), the
-// second the same pixel's index in SPEC §2 order (rows from the top). The frame drivers store their frames with it.
+// second the same pixel's index in docs/spec.md §2 order (rows from the top). The frame drivers store their frames with
+// it.
 template <class F>
 void for_each_gl_pixel(int width, int height, F&& f)
 {

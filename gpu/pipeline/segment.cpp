@@ -1,15 +1,12 @@
 #include "gpu/pipeline/segment.h"
 
 #include <algorithm>
-#include <chrono>
 
 #include <glm/geometric.hpp>
 
-namespace uvr::gpu {
+#include "reference/timing.h"
 
-namespace {
-using Clock = std::chrono::steady_clock;
-}  // namespace
+namespace uvr::gpu {
 
 double longest_tet_edge(const TetMesh& mesh)
 {
@@ -32,7 +29,7 @@ std::unique_ptr<PreintegrationTable> build_segment_table(const SegmentIntegrator
     cfg.format = format;
     cfg.max_length = max_length;
     auto table = std::make_unique<PreintegrationTable>(integrator, range, cfg);
-    ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    ms = ms_since(t0);
     return table;
 }
 

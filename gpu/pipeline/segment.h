@@ -14,10 +14,14 @@
 #include "gpu/pipeline/preintegration_table.h"
 #include "reference/mesh.h"
 #include "reference/segment_integral.h"
+#include "reference/choice.h"
 
 namespace uvr::gpu {
 
-enum class SegmentMode { table, exact };  // --segment: the pre-integrated table, or the exact integral (emulation only)
+enum class SegmentMode { table, exact };
+inline constexpr Choices<SegmentMode, 2> kSegmentModes{
+    {{SegmentMode::table, "table", "the pre-integrated table"},
+     {SegmentMode::exact, "exact", "the segment's integral in closed form; emulation only"}}};
 
 // What the table lookup (or, in emulation, the exact integral) returns for the segment from entry `front` to entry
 // `back`: u_front = |front.x| - 1, u_back = |back.x| - 1, t_z = (back.y - front.y) * length_scale + length_bias.

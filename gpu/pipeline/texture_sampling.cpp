@@ -8,6 +8,8 @@
 #include <cstring>
 #include <limits>
 
+#include "gpu/pipeline/llvmpipe_cpu.h"
+
 namespace uvr::gpu {
 
 namespace {
@@ -166,11 +168,7 @@ int texel_channel_bytes(TexelFormat f)
 LlvmpipeCpu host_llvmpipe_cpu()
 {
     LlvmpipeCpu cpu;
-#if defined(__x86_64__) || defined(__i386__)
-    cpu.fma = __builtin_cpu_supports("fma");
-#else
-    cpu.fma = false;  // other architectures: unverified, see docs/tables.md
-#endif
+    cpu.fma = llvmpipe_cpu_caps().fma;  // Mesa's decision (llvmpipe_cpu.h); other architectures: none, unverified
     cpu.lerp8_rounds = true;  // Mesa 22.3: pmulhrsw, on any x86 CPU with SSSE3 (2006 on)
     return cpu;
 }

@@ -12,11 +12,15 @@
 #include <cstdint>
 
 #include <glm/vec4.hpp>
+#include "reference/choice.h"
 
 namespace uvr::gpu {
 
 // Storage formats of a texture: RGBA32F (or R32F), RGBA16 unorm (R16), RGBA8 unorm (R8).
 enum class TexelFormat { f32, u16, u8 };
+inline constexpr Choices<TexelFormat, 3> kTexelFormats{{{TexelFormat::f32, "f32", "32-bit float"},
+                                                        {TexelFormat::u16, "u16", "16-bit unorm"},
+                                                        {TexelFormat::u8, "u8", "8-bit unorm"}}};
 const char* texel_format_name(TexelFormat f);  // "f32", "u16", "u8"
 int texel_channel_bytes(TexelFormat f);         // 4, 2, 1
 
@@ -33,14 +37,14 @@ struct TextureView {
 
 // The CPU features llvmpipe's generated sampling code depends on.
 struct LlvmpipeCpu {
-    // llvm.fmuladd is fused into a single-rounding FMA on x86 CPUs with FMA3 (llvmpipe passes the host's features
-    // to the JIT, +fma included). Without it the float lerp rounds twice (multiply, then add).
+    // llvm.fmuladd is fused into a single-rounding FMA when Mesa's caps have FMA (llvmpipe_cpu.h: the CPU's FMA3,
+    // unless the environment takes it away). Without it the float lerp rounds twice (multiply, then add).
     bool fma = true;
     // The 8-bit lerp of the AoS path. Mesa 22.3 uses pmulhrsw on SSSE3 / AVX2 lanes, which rounds w * delta / 256
     // to nearest (checked bit for bit against OSMesa 22.3.6, docs/tables.md); older Mesa truncated (floored).
     bool lerp8_rounds = true;
 };
-// The features of the machine this runs on: FMA3 as the CPU reports it; lerp8_rounds as Mesa 22.3 does it.
+// The features of the machine this runs on: FMA as Mesa decides it (llvmpipe_cpu.h); lerp8_rounds as Mesa 22.3 does it.
 LlvmpipeCpu host_llvmpipe_cpu();
 
 // ---- Building blocks (exposed for the tests and for the other emulated stages) ----

@@ -1,9 +1,8 @@
-// The ray caster's post-classification table (seed 002): per scalar, the colour and opacity of one step of the march,
-// with the opacity corrected for the step length. Input: a SegmentIntegrator, the scalar range, the step, N texels.
-// Output: N x 1 RGBA32F texels, and sample() as llvmpipe reads them (GL_LINEAR, CLAMP_TO_EDGE, at t = 0.5).
+// The ray caster's post-classification table (Krüger and Westermann): per scalar, the colour and opacity of one step of
+// the march, with the opacity corrected for the step length. Input: a SegmentIntegrator, the scalar range, the step, N
+// texels. Output: N x 1 RGBA32F texels, and sample() as llvmpipe reads them (GL_LINEAR, CLAMP_TO_EDGE, at t = 0.5).
 // Twins: shaders/classification_table.frag; uploaded by upload_raycast_textures (gpu/raycast/gl_raycast.h); harness
-// gpu/raycast/gl_raycast_harness.h (run_march).
-// Derivation: docs/raycast.md, "The post-classification table".
+// gpu/raycast/gl_raycast_harness.h (run_march). Derivation: docs/raycast.md, "The post-classification table".
 #pragma once
 
 #include <vector>

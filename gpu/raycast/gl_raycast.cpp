@@ -8,13 +8,11 @@
 #include "gpu/gl/gl_framebuffer.h"
 #include "gpu/gl/gl_preintegration_table.h"
 #include "reference/error.h"
+#include "reference/timing.h"
 
 namespace uvr::gpu {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 enum Texture { kVolumeTexture = 0, kClassificationTexture = 1, kTableTexture = 2 };
 
@@ -113,12 +111,12 @@ void upload_raycast_textures(const GlContext& ctx, const RaycastVolume& rv, GLui
 
 struct GlRaycastRenderer::Objects {
     const GlFunctions& gl;
-    std::unique_ptr<GlProgram> program;     // the march: full-screen (exact) or the seed's third pass
-    std::unique_ptr<GlProgram> box_program; // the seed's first two passes
+    std::unique_ptr<GlProgram> program;      // the march: full-screen (exact) or the published third pass
+    std::unique_ptr<GlProgram> box_program;  // the published first two passes
     GLuint vao = 0, box_vbo = 0;
     GLuint textures[3] = {};
-    std::unique_ptr<GlFloatFramebuffer> framebuffer;  // colour, samples (and depth for the seed's third pass)
-    std::unique_ptr<GlFloatFramebuffer> positions;    // the seed's entry and exit targets, with depth
+    std::unique_ptr<GlFloatFramebuffer> framebuffer;  // colour, samples (and depth for the published third pass)
+    std::unique_ptr<GlFloatFramebuffer> positions;    // the published entry and exit targets, with depth
 
     explicit Objects(const GlFunctions& g) : gl(g) {}
     ~Objects()
@@ -140,15 +138,15 @@ GlRaycastRenderer::GlRaycastRenderer(GlContext& ctx, const Volume& volume, const
 {
     ctx_.make_current();
     gl_ = std::make_unique<Objects>(ctx_.gl());
-    const bool seed = volume_.options().interpolation == InterpolationMode::gpu;
+    const bool published = volume_.options().interpolation == InterpolationMode::gpu;
     const GlShaderSource box_vertex{{"clip_position.vert", "raycast_box.vert"}, {}, {}};
     GlShaderSource march{{"classification_table.frag", "preintegration_table.frag", "raycast_fragment.frag",
                           "raycast.frag"},
                          {},
                          {}};
     if (volume_.options().light) march.defines.push_back({"RAYCAST_SHADE", "1"});
-    if (seed) {
-        march.defines.push_back({"RAYCAST_SEED_PASSES", "1"});
+    if (published) {
+        march.defines.push_back({"RAYCAST_PUBLISHED_PASSES", "1"});
         gl_->program = std::make_unique<GlProgram>(ctx_, box_vertex, march);
         gl_->box_program = std::make_unique<GlProgram>(ctx_, box_vertex, GlShaderSource{{"raycast_box.frag"}, {}, {}});
         gl_->positions = std::make_unique<GlFloatFramebuffer>(ctx_, 2, "the ray caster's entry and exit targets",
@@ -158,7 +156,7 @@ GlRaycastRenderer::GlRaycastRenderer(GlContext& ctx, const Volume& volume, const
     }
     const GlFunctions& gl = ctx_.gl();
     gl.GenVertexArrays(1, &gl_->vao);
-    if (seed) {
+    if (published) {
         gl.GenBuffers(1, &gl_->box_vbo);
         gl.BindVertexArray(gl_->vao);
         gl.BindBuffer(GL_ARRAY_BUFFER, gl_->box_vbo);
@@ -171,7 +169,8 @@ GlRaycastRenderer::GlRaycastRenderer(GlContext& ctx, const Volume& volume, const
     }
     upload_raycast_textures(ctx_, volume_, gl_->textures);
     gl_->framebuffer = std::make_unique<GlFloatFramebuffer>(
-        ctx_, 2, "the ray caster's framebuffer", seed ? GlFloatFramebuffer::Depth::d24 : GlFloatFramebuffer::Depth::none);
+        ctx_, 2, "the ray caster's framebuffer",
+        published ? GlFloatFramebuffer::Depth::d24 : GlFloatFramebuffer::Depth::none);
     ctx_.check_error("setting up the ray caster on GL");
 }
 
@@ -198,8 +197,8 @@ void GlRaycastRenderer::draw_box_passes(const RaycastBoxFrame& bf, int width, in
     gl.UniformMatrix4fv(gl_->box_program->uniform("rc_box_mvp", true), 1, GL_FALSE, &bf.view.mvp[0][0]);
     gl.Enable(GL_DEPTH_TEST);
     gl.Enable(GL_CULL_FACE);
-    // The seed's passes: front faces with GL_LESS over depth 1, back faces with GL_GREATER over depth 0; culling the
-    // other facing beside them (docs/raycast.md, "The seed's passes").
+    // The published passes: front faces with GL_LESS over depth 1, back faces with GL_GREATER over depth 0; culling the
+    // other facing beside them (docs/raycast.md, "The published passes").
     struct Pass {
         GLenum target, cull, depth_func;
         float clear_depth;
@@ -223,12 +222,12 @@ RaycastFrame GlRaycastRenderer::render(const Camera& cam, int width, int height)
     RaycastFrame out;
     auto t0 = Clock::now();
     const RaycastFrameConstants fc = raycast_frame_constants(volume_, cam, width, height);
-    const bool seed = volume_.options().interpolation == InterpolationMode::gpu;
+    const bool published = volume_.options().interpolation == InterpolationMode::gpu;
     gl.Disable(GL_BLEND);
     gl.Disable(GL_DEPTH_TEST);
     gl.Disable(GL_CULL_FACE);
     RaycastBoxFrame bf;
-    if (seed) {
+    if (published) {
         bf = raycast_box_frame(fc, cam, volume_.origin(), width, height);
         count_raycast_box(bf, out.stats);
         draw_box_passes(bf, width, height);
@@ -240,8 +239,9 @@ RaycastFrame GlRaycastRenderer::render(const Camera& cam, int width, int height)
     gl.UseProgram(gl_->program->id());
     set_raycast_frame_uniforms(ctx_, *gl_->program, fc);
     gl.BindVertexArray(gl_->vao);
-    if (seed) {
-        // The seed's third pass: the box again, front faces (GL_LESS over depth 1), the march at each of their pixels.
+    if (published) {
+        // The published third pass: the box again, front faces (GL_LESS over depth 1), the march at each of their
+        // pixels.
         const float one = 1.0f;
         gl.ClearBufferfv(GL_DEPTH, 0, &one);
         gl.DepthFunc(GL_LESS);
@@ -257,7 +257,7 @@ RaycastFrame GlRaycastRenderer::render(const Camera& cam, int width, int height)
     const double setup_ms = ms_since(t0);
 
     t0 = Clock::now();
-    gl.DrawArrays(GL_TRIANGLES, 0, seed ? GLsizei(bf.vertices.size()) : 3);
+    gl.DrawArrays(GL_TRIANGLES, 0, published ? GLsizei(bf.vertices.size()) : 3);
     gl.Finish();
     ctx_.check_error("the ray caster's draw");
     const double march_ms = ms_since(t0);

@@ -1,5 +1,5 @@
-// The ray caster on GL (issue 7, seed 002): the volume as a one-channel 3D texture, the classification (or
-// pre-integrated) table; the seed's three passes (--interpolation gpu: the box's front and back faces into RGBA32F
+// The ray caster on GL (Krüger and Westermann): the volume as a one-channel 3D texture, the classification (or
+// pre-integrated) table; the published three passes (--interpolation gpu: the box's front and back faces into RGBA32F
 // targets, then the box again with the march) or one full-screen triangle (exact); colour and samples per pixel in a
 // float framebuffer. The CPU stages (RaycastVolume, raycast_box_frame) and the frame's constants are the
 // emulation's, so both march the same texels with the same uniforms. docs/raycast.md.
@@ -34,7 +34,7 @@ public:
     const RaycastVolume& cpu_stage() const { return volume_; }
 
 private:
-    void draw_box_passes(const RaycastBoxFrame& bf, int width, int height);  // the seed's first two passes
+    void draw_box_passes(const RaycastBoxFrame& bf, int width, int height);  // the published first two passes
 
     GlContext& ctx_;
     RaycastVolume volume_;

@@ -94,7 +94,7 @@ const GlProgram& GlRaycastHarness::program(int which)
 {
     auto& p = programs_[which];
     if (!p) {
-        const char* const modes[] = {"HARNESS_RAY", "HARNESS_MARCH", "HARNESS_LIGHT", "HARNESS_RAY_SEED"};
+        const char* const modes[] = {"HARNESS_RAY", "HARNESS_MARCH", "HARNESS_LIGHT", "HARNESS_RAY_PUBLISHED"};
         const char* mode = modes[which];
         p = std::make_unique<GlProgram>(
             ctx_, GlShaderSource{{"fullscreen.vert"}, {}, {}},
@@ -211,8 +211,8 @@ std::vector<glm::dvec2> GlRaycastHarness::run_light(const RaycastFrameConstants&
     return out;
 }
 
-std::vector<RaycastRay> GlRaycastHarness::run_ray_seed(const RaycastFrameConstants& fc,
-                                                       const std::vector<glm::vec4>& texels)
+std::vector<RaycastRay> GlRaycastHarness::run_ray_published(const RaycastFrameConstants& fc,
+                                                            const std::vector<glm::vec4>& texels)
 {
     ctx_.make_current();
     const GlProgram& prog = program(3);
@@ -220,7 +220,7 @@ std::vector<RaycastRay> GlRaycastHarness::run_ray_seed(const RaycastFrameConstan
     set_raycast_frame_uniforms(ctx_, prog, fc);
     std::vector<RaycastRay> out(texels.size() / 2);
     run_chunks(
-        ctx_, prog, vao_, out.size(), "the ray caster's seed ray harness pass",
+        ctx_, prog, vao_, out.size(), "the ray caster's published ray harness pass",
         [&](std::size_t base, std::size_t m, HarnessPass& pass) {
             pass.storage(0, texels.data() + 2 * base, 2 * m * sizeof(glm::vec4));
             return pass.storage(1, nullptr, m * sizeof(GlRay));

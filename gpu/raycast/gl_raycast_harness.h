@@ -1,12 +1,13 @@
 // Runs the ray caster's fragment program (shaders/raycast_fragment.frag through shaders/raycast_harness.frag) alone on
-// chosen inputs, for bit-for-bit comparison with its emulation (SPEC §5, stage level), as gpu/vicp/gl_vicp_harness.h
-// does for VICP. One case per pixel of a full-screen pass, inputs and outputs in storage buffers whose std430 layouts
-// are in gl_raycast_harness.cpp; the frame constants are uniforms, set once a call, the cases vary within it:
+// chosen inputs, for bit-for-bit comparison with its emulation (docs/spec.md §5, stage level), as
+// gpu/vicp/gl_vicp_harness.h does for VICP. One case per pixel of a full-screen pass, inputs and outputs in storage
+// buffers whose std430 layouts are in gl_raycast_harness.cpp; the frame constants are uniforms, set once a call, the
+// cases vary within it:
 //   - run_ray: raycast_ray_exact (frame constants and pixel -> the ray, every double before its rounding to float);
 //   - run_march: raycast_march (a ray -> colour and samples) over a RaycastVolume's real textures, both
 //     classifications, shaded or not, as the renderer binds them;
 //   - run_light: raycast_light_factors (a sample's place, its gradient -> the Blinn-Phong factors, in double);
-//   - run_ray_seed: raycast_ray_seed (the box passes' entry and exit texels -> the ray).
+//   - run_ray_published: raycast_ray_published (the box passes' entry and exit texels -> the ray).
 // Twins: shaders/raycast_harness.frag (its mains); emulated stage gpu/raycast/raycast_fragment.h; GL uniforms
 // gpu/raycast/gl_raycast.h. Tests only (library uvr_gl_harness).
 #pragma once
@@ -46,13 +47,13 @@ public:
     std::vector<glm::dvec2> run_light(const RaycastFrameConstants& fc, const std::vector<RaycastLightCase>& cases);
 
     // texels[2 i] is case i's entry (front), texels[2 i + 1] its exit (back).
-    std::vector<RaycastRay> run_ray_seed(const RaycastFrameConstants& fc, const std::vector<glm::vec4>& texels);
+    std::vector<RaycastRay> run_ray_published(const RaycastFrameConstants& fc, const std::vector<glm::vec4>& texels);
 
 private:
     GlContext& ctx_;
     GLuint vao_ = 0;
     GLuint textures_[3] = {};
-    std::map<int, std::unique_ptr<GlProgram>> programs_;  // 0 ray, 1 march, 2 light, 3 seed ray
+    std::map<int, std::unique_ptr<GlProgram>> programs_;  // 0 ray, 1 march, 2 light, 3 published ray
 
     const GlProgram& program(int which);
 };

@@ -8,13 +8,9 @@
 
 #include "gpu/pipeline/denormals.h"
 #include "gpu/pipeline/rasterize.h"
+#include "reference/timing.h"
 
 namespace uvr::gpu {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-}  // namespace
 
 void store_raycast_frame(const std::vector<glm::vec4>& colour, const std::vector<uint32_t>& samples, int width,
                          int height, RaycastFrame& out)
@@ -50,10 +46,10 @@ RaycastFrame RaycastRenderer::render(const Camera& cam, int width, int height) c
     auto t0 = Clock::now();
     const RaycastFrameConstants fc = raycast_frame_constants(volume_, cam, width, height);
     const RaycastTextures tex = raycast_textures(volume_);
-    const bool seed = volume_.options().interpolation == InterpolationMode::gpu;
-    // The seed's first two passes: each pixel's entry and exit as the box's faces interpolate them.
+    const bool published = volume_.options().interpolation == InterpolationMode::gpu;
+    // The published first two passes: each pixel's entry and exit as the box's faces interpolate them.
     RaycastBoxPass front, back;
-    if (seed) {
+    if (published) {
         const RaycastBoxFrame bf = raycast_box_frame(fc, cam, volume_.origin(), width, height);
         front = raycast_box_pass(bf, Facing::front);
         back = raycast_box_pass(bf, Facing::back);
@@ -61,7 +57,7 @@ RaycastFrame RaycastRenderer::render(const Camera& cam, int width, int height) c
     }
     const double setup_ms = ms_since(t0);
 
-    // The march: on the pixels the box's front covers (the seed's third pass draws the box again), or on every pixel
+    // The march: on the pixels the box's front covers (the published third pass draws the box again), or on every pixel
     // of one full-screen pass (--interpolation exact). GL rows, from the bottom.
     const std::size_t npix = std::size_t(width) * std::size_t(height);
     std::vector<glm::vec4> colour(npix, glm::vec4(0.0f));
@@ -71,9 +67,9 @@ RaycastFrame RaycastRenderer::render(const Camera& cam, int width, int height) c
         const FlushDenormals llvmpipe_mxcsr;  // as llvmpipe's shader threads (gpu/pipeline/denormals.h)
         for (int px = 0; px < width; ++px) {
             const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
-            if (seed && front.position[p].w == 0.0f) continue;
+            if (published && front.position[p].w == 0.0f) continue;
             const RaycastRay ray =
-                seed ? raycast_ray_seed(fc, front.position[p], back.position[p]) : raycast_ray(fc, px, py);
+                published ? raycast_ray_published(fc, front.position[p], back.position[p]) : raycast_ray(fc, px, py);
             const RaycastResult r = raycast_march(fc, ray, tex);
             colour[p] = r.colour;
             samples[p] = r.samples;
@@ -81,7 +77,7 @@ RaycastFrame RaycastRenderer::render(const Camera& cam, int width, int height) c
     });
     const double march_ms = ms_since(t0);
     store_raycast_frame(colour, samples, width, height, out);
-    if (seed) {
+    if (published) {
         out.stats.entries = front.covered;
         out.stats.overlaps = front.overlaps + back.overlaps;
         for (std::size_t p = 0; p < npix; ++p)

@@ -1,8 +1,7 @@
-// GPU ray casting of regular grids (seed 002) emulated on the CPU as llvmpipe runs it: one full-screen pass whose
-// fragment program (raycast_fragment) finds the pixel's ray through the volume's box and marches it through the 3D
-// texture. The CPU stage (raycast_setup) is shared with the GL driver (gl_raycast). docs/raycast.md.
-// Twins: shaders/raycast.frag (the pass's main); GL driver gpu/raycast/gl_raycast.h; harness
-// gpu/raycast/gl_raycast_harness.h.
+// GPU ray casting of regular grids (Krüger and Westermann) emulated on the CPU as llvmpipe runs it: one full-screen
+// pass whose fragment program (raycast_fragment) finds the pixel's ray through the volume's box and marches it through
+// the 3D texture. The CPU stage (raycast_setup) is shared with the GL driver (gl_raycast). docs/raycast.md. Twins:
+// shaders/raycast.frag (the pass's main); GL driver gpu/raycast/gl_raycast.h; harness gpu/raycast/gl_raycast_harness.h.
 #pragma once
 
 #include <cstdint>
@@ -18,7 +17,7 @@ struct RaycastStats {
     uint64_t rays = 0;         // pixels whose ray meets the box
     uint64_t samples = 0;      // texture positions classified, all pixels
     uint32_t max_samples = 0;  // most on one pixel
-    // The seed's passes (--interpolation gpu; gpu/raycast/raycast_box.h): the box's triangles drawn, those the clip
+    // The published passes (--interpolation gpu; gpu/raycast/raycast_box.h): the box's triangles drawn, those the clip
     // stage made or cut, pixels with an entry, pixels with an entry and no exit (no samples), and fragments that met
     // a pixel already written in a pass (0: the depth test never decides; emulation only).
     uint64_t box_triangles = 0, near_sections = 0, clipped_faces = 0, gpu_clipped = 0;
@@ -28,7 +27,7 @@ struct RaycastStats {
 
 struct RaycastFrame {
     Image image;
-    std::vector<uint32_t> samples;  // per pixel, SPEC §2 order
+    std::vector<uint32_t> samples;  // per pixel, docs/spec.md §2 order
     RaycastStats stats;
 };
 

@@ -1,10 +1,10 @@
-// The seed's first two passes (seed 002): the volume's box drawn with its texture coordinates as colour, front faces
-// into one RGBA32F target (GL_LESS, depth cleared to 1), back faces into another (GL_GREATER, cleared to 0).
-// raycast_box_frame is the CPU stage both drivers share (the box's triangles after the clip stage, with the near
-// plane's section where the near plane cuts the box); raycast_box_pass is the emulated pass (coverage and the smooth
-// texture coordinate as llvmpipe interpolates it, gpu/pipeline/interpolation.h).
-// Twins: shaders/raycast_box.vert, shaders/raycast_box.frag; GL driver gpu/raycast/gl_raycast.h.
-// Derivation (culling beside the depth test, the section, why one fragment a pixel): docs/raycast.md, "The seed's passes".
+// The published first two passes (Krüger and Westermann): the volume's box drawn with its texture coordinates as
+// colour, front faces into one RGBA32F target (GL_LESS, depth cleared to 1), back faces into another (GL_GREATER,
+// cleared to 0). raycast_box_frame is the CPU stage both drivers share (the box's triangles after the clip stage, with
+// the near plane's section where the near plane cuts the box); raycast_box_pass is the emulated pass (coverage and the
+// smooth texture coordinate as llvmpipe interpolates it, gpu/pipeline/interpolation.h). Twins:
+// shaders/raycast_box.vert, shaders/raycast_box.frag; GL driver gpu/raycast/gl_raycast.h. Derivation (culling beside
+// the depth test, the section, why one fragment a pixel): docs/raycast.md, "The published passes".
 #pragma once
 
 #include <cstdint>

@@ -77,16 +77,16 @@ RaycastRay rounded_ray(const RaycastRayExact& e)
     return ray;
 }
 
-RaycastRay raycast_ray_seed(const RaycastFrameConstants& fc, const glm::vec4& front, const glm::vec4& back)
+RaycastRay raycast_ray_published(const RaycastFrameConstants& fc, const glm::vec4& front, const glm::vec4& back)
 {
     RaycastRay ray;
     if (front.w == 0.0f || back.w == 0.0f) return ray;
-    // The seed's direction, back - front, in texture coordinates; in world units through the box's extent per texture
-    // unit, so that the step is world units as --step says (docs/raycast.md, "The seed's passes").
+    // The published direction, back - front, in texture coordinates; in world units through the box's extent per
+    // texture unit, so that the step is world units as --step says (docs/raycast.md, "The published passes").
     const glm::vec3 d(back.x - front.x, back.y - front.y, back.z - front.z);
     const glm::vec3 w(d.x * fc.tex_extent.x, d.y * fc.tex_extent.y, d.z * fc.tex_extent.z);
-    // DP3, RSQ, MUL, as HAVS's seed measures a distance (gpu/havs/havs_fragment.cpp havs_seed_entry): llvmpipe's dot
-    // sums from the last component, inversesqrt is 1 / sqrt, two roundings.
+    // DP3, RSQ, MUL, as the HAVS paper's program measures a distance (gpu/havs/havs_fragment.cpp havs_paper_entry):
+    // llvmpipe's dot sums from the last component, inversesqrt is 1 / sqrt, two roundings.
     const float zz = w.z * w.z, yy = w.y * w.y, xx = w.x * w.x;
     const float t = (zz + yy) + xx;
     if (!(t > 0.0f)) return ray;

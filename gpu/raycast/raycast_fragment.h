@@ -1,11 +1,10 @@
-// The ray caster's fragment program (seed 002), emulated operation by operation: the pixel's ray in double from
-// gl_FragCoord, clipped against the samples' box (raycast_ray_exact, raycast_ray); the march in float through the
+// The ray caster's fragment program (Krüger and Westermann), emulated operation by operation: the pixel's ray in double
+// from gl_FragCoord, clipped against the samples' box (raycast_ray_exact, raycast_ray); the march in float through the
 // volume texture, post-classified or pre-integrated (raycast_march); optional Blinn-Phong shading (raycast_gradient,
-// raycast_light_factors). Input: RaycastFrameConstants, the pixel, RaycastTextures. Output: RaycastResult (the
-// colour and the number of samples).
-// Twins: shaders/raycast_fragment.frag; GL uniforms gpu/raycast/gl_raycast.h (set_raycast_frame_uniforms); harness
-// gpu/raycast/gl_raycast_harness.h.
-// Derivation: docs/raycast.md gives the decisions, and the arithmetic under "The arithmetic".
+// raycast_light_factors). Input: RaycastFrameConstants, the pixel, RaycastTextures. Output: RaycastResult (the colour
+// and the number of samples). Twins: shaders/raycast_fragment.frag; GL uniforms gpu/raycast/gl_raycast.h
+// (set_raycast_frame_uniforms); harness gpu/raycast/gl_raycast_harness.h. Derivation: docs/raycast.md gives the
+// decisions, and the arithmetic under "The arithmetic".
 #pragma once
 
 #include <cstdint>
@@ -21,16 +20,17 @@
 
 namespace uvr::gpu {
 
-// Per-frame constants (uniforms): the pixels' rays (gpu/pipeline/pixel_rays.h) relative to the box's centre, and the rest.
+// Per-frame constants (uniforms): the pixels' rays (gpu/pipeline/pixel_rays.h) relative to the box's centre, and the
+// rest.
 struct RaycastFrameConstants : PixelRays {
     glm::dvec3 box_lo{0.0}, box_hi{0.0};  // the samples' box, relative to its centre
     glm::dvec3 tex_scale{0.0};            // 1 / (dims * spacing): world units to texture coordinates
     glm::dvec3 tex_half{0.0};             // 0.5 / dims: texel 0's centre
-    glm::vec3 tex_extent{0.0f};           // float(dims * spacing): world units per texture unit (the seed's passes)
+    glm::vec3 tex_extent{0.0f};           // float(dims * spacing): world units per texture unit (the published passes)
     double step = 1.0;                    // world units
     int max_samples = 0;                  // no ray takes more (setup: the box's diagonal over the step, plus 2)
     int preintegrate = 0;
-    float threshold = 0.95f;              // early termination (SPEC §3)
+    float threshold = 0.95f;                          // early termination (docs/spec.md §3)
     float scalar_scale = 1.0f, scalar_bias = 0.0f;    // texture value -> normalized scalar
     float step_f = 1.0f;                              // float(step): a full segment's length (pre-integration)
     float length_scale = 0.0f, length_bias = 0.0f;    // the pre-integrated table's sz.z and sz.w
@@ -54,8 +54,9 @@ struct RaycastRay {
     glm::dvec3 entry{0.0}, dir{0.0};  // world entry point (centred frame) and unit direction: shading's positions
 };
 
-// The double part's results before their rounding to float: what the stage harness compares (gpu/raycast/gl_raycast_harness.h),
-// so that a change in the double arithmetic shows even where it vanishes in the float it is rounded to.
+// The double part's results before their rounding to float: what the stage harness compares
+// (gpu/raycast/gl_raycast_harness.h), so that a change in the double arithmetic shows even where it vanishes in the
+// float it is rounded to.
 struct RaycastRayExact {
     int samples = 0;
     glm::dvec3 tex0{0.0}, dtex{0.0}, tex_exit{0.0};
@@ -71,12 +72,12 @@ inline RaycastRay raycast_ray(const RaycastFrameConstants& fc, int px, int py)
     return rounded_ray(raycast_ray_exact(fc, px, py));
 }
 
-// The seed's ray (--interpolation gpu) from the pixel's texels of the two box passes (gpu/raycast/raycast_box.h): the
-// entry `front` and the exit `back` as llvmpipe interpolated them (alpha 1 where a fragment wrote them). In float:
+// The published ray (--interpolation gpu) from the pixel's texels of the two box passes (gpu/raycast/raycast_box.h):
+// the entry `front` and the exit `back` as llvmpipe interpolated them (alpha 1 where a fragment wrote them). In float:
 // the difference in world units, its length by DP3, RSQ, MUL, the step as the difference times step / length; the
 // sample count and the last segment in double from that length. No samples where either texel is unwritten or the
-// length is 0. docs/raycast.md, "The seed's passes".
-RaycastRay raycast_ray_seed(const RaycastFrameConstants& fc, const glm::vec4& front, const glm::vec4& back);
+// length is 0. docs/raycast.md, "The published passes".
+RaycastRay raycast_ray_published(const RaycastFrameConstants& fc, const glm::vec4& front, const glm::vec4& back);
 
 // The textures the march reads, as the emulation holds them.
 struct RaycastTextures {

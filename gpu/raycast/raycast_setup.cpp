@@ -6,21 +6,13 @@
 
 #include "gpu/pipeline/pixel_rays.h"
 #include "reference/error.h"
+#include "reference/timing.h"
 
 namespace uvr::gpu {
 
-namespace {
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-}  // namespace
-
 VolumeFormat parse_volume_format(const std::string& name)
 {
-    if (name == "native") return VolumeFormat::native;
-    if (name == "f32") return VolumeFormat::f32;
-    if (name == "u16") return VolumeFormat::u16;
-    if (name == "u8") return VolumeFormat::u8;
-    throw InputError("", "--volume-format must be native, f32, u16 or u8, not '" + name + "'");
+    return parse_choice("--volume-format", kVolumeFormats, name);
 }
 
 double default_raycast_step(const Volume& volume)

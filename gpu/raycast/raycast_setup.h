@@ -1,5 +1,5 @@
-// The ray caster's CPU stage (seed 002), shared by the emulated driver (gpu/raycast/raycast.cpp) and the GL driver
-// (gpu/raycast/gl_raycast.cpp), so that both march the same texture with the same tables and constants:
+// The ray caster's CPU stage (Krüger and Westermann), shared by the emulated driver (gpu/raycast/raycast.cpp) and the
+// GL driver (gpu/raycast/gl_raycast.cpp), so that both march the same texture with the same tables and constants:
 //   - once per volume (RaycastVolume): the volume texture's texels in the format the GPU holds them, the encoding
 //     from a texel's value to the normalized scalar, the tables (classification, or the pre-integrated one of HAVS);
 //   - once per frame (raycast_frame_constants): the uniforms of the fragment program (gpu/raycast/raycast_fragment.h).
@@ -19,10 +19,15 @@
 #include "gpu/raycast/raycast_fragment.h"
 #include "reference/camera.h"
 #include "reference/volume.h"
+#include "reference/choice.h"
 
 namespace uvr::gpu {
 
 enum class VolumeFormat { native, f32, u16, u8 };
+inline constexpr Choices<VolumeFormat, 4> kVolumeFormats{{{VolumeFormat::native, "native", "the data's own type"},
+                                                          {VolumeFormat::f32, "f32", "32-bit float"},
+                                                          {VolumeFormat::u16, "u16", "16-bit unorm"},
+                                                          {VolumeFormat::u8, "u8", "8-bit unorm"}}};
 VolumeFormat parse_volume_format(const std::string& name);  // "native", "f32", "u16", "u8"; InputError otherwise
 
 // Blinn-Phong with a point light (--light X,Y,Z in world coordinates).
@@ -33,20 +38,20 @@ struct RaycastLight {
 };
 
 struct RaycastOptions {
-    double step = 0.0;               // world units; 0: half the smallest spacing (SPEC §3)
+    double step = 0.0;  // world units; 0: half the smallest spacing (docs/spec.md §3)
     bool preintegrate = false;
-    float threshold = 0.95f;         // SPEC §3; 1 switches early termination off
+    float threshold = 0.95f;  // docs/spec.md §3; 1 switches early termination off
     VolumeFormat volume_format = VolumeFormat::native;
     std::optional<RaycastLight> light;  // shading when set
     SegmentMode segment = SegmentMode::table;  // --preintegrate: the table, or the exact integral (emulation only)
     int table_size = 128;            // the pre-integrated table's texels per axis
     TexelFormat table_format = TexelFormat::f32;
-    // gpu: the seed's passes, entry and exit from the box's faces as the rasterizer interpolates them (SPEC §7);
-    // exact: the pixel's ray against the box in double (docs/raycast.md, "The seed's passes").
+    // gpu: the published passes, entry and exit from the box's faces as the rasterizer interpolates them (docs/spec.md
+    // §7); exact: the pixel's ray against the box in double (docs/raycast.md, "The published passes").
     InterpolationMode interpolation = InterpolationMode::gpu;
 };
 
-// The step when none is given: half the smallest spacing (SPEC §3).
+// The step when none is given: half the smallest spacing (docs/spec.md §3).
 double default_raycast_step(const Volume& volume);
 
 // A ray never takes more samples than this: --step is refused when the box's diagonal needs more.

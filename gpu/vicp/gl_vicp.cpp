@@ -13,13 +13,11 @@
 #include "gpu/gl/gl_preintegration_table.h"
 #include "gpu/vicp/gl_vicp_fragment.h"
 #include "reference/error.h"
+#include "reference/timing.h"
 
 namespace uvr::gpu {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
 constexpr const char* kFramebufferFetch = "GL_EXT_shader_framebuffer_fetch";
 
@@ -73,10 +71,10 @@ struct GlVicpRenderer::Objects {
     std::unique_ptr<GlProgram> program;
     GLuint vao = 0;
     GLuint buffers[kBindings] = {};
-    // --interpolation gpu: the seed's program and ProjectTet's records as vertex attributes, a chunk at a time.
-    std::unique_ptr<GlProgram> seed_program;
-    GLuint seed_vao = 0, seed_vbo = 0;
-    std::vector<VicpSeedVertex> records;  // the chunk being sent
+    // --interpolation gpu: the published program and ProjectTet's records as vertex attributes, a chunk at a time.
+    std::unique_ptr<GlProgram> published_program;
+    GLuint published_vao = 0, published_vbo = 0;
+    std::vector<VicpPublishedVertex> records;  // the chunk being sent
     std::vector<uint32_t> first_face;
     std::vector<uint8_t> faces;
     GLuint table_texture = 0;
@@ -87,11 +85,11 @@ struct GlVicpRenderer::Objects {
     {
         framebuffer.reset();
         program.reset();
-        seed_program.reset();
+        published_program.reset();
         gl.DeleteBuffers(kBindings, buffers);
         if (vao) gl.DeleteVertexArrays(1, &vao);
-        if (seed_vao) gl.DeleteVertexArrays(1, &seed_vao);
-        if (seed_vbo) gl.DeleteBuffers(1, &seed_vbo);
+        if (published_vao) gl.DeleteVertexArrays(1, &published_vao);
+        if (published_vbo) gl.DeleteBuffers(1, &published_vbo);
         if (table_texture) gl.DeleteTextures(1, &table_texture);
     }
     void upload(Binding b, const void* data, std::size_t bytes, GLenum usage)
@@ -121,26 +119,30 @@ GlVicpRenderer::GlVicpRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
                        {},
                        {kFramebufferFetch}});
     if (mesh_.options().interpolation == InterpolationMode::gpu) {
-        gl_->seed_program = std::make_unique<GlProgram>(
-            ctx_, GlShaderSource{{"clip_position.vert", "vicp_seed.glsl", "vicp_seed_vertex.vert", "vicp_seed.vert"}, {}, {}},
-            GlShaderSource{{"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp_seed.glsl",
-                            "vicp_seed_fragment.frag", "vicp_seed.frag"},
+        gl_->published_program = std::make_unique<GlProgram>(
+            ctx_,
+            GlShaderSource{
+                {"clip_position.vert", "vicp_published.glsl", "vicp_published_vertex.vert", "vicp_published.vert"},
+                {},
+                {}},
+            GlShaderSource{{"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp_published.glsl",
+                            "vicp_published_fragment.frag", "vicp_published.frag"},
                            {},
                            {kFramebufferFetch}});
-        gl.GenVertexArrays(1, &gl_->seed_vao);
-        gl.GenBuffers(1, &gl_->seed_vbo);
-        gl.BindVertexArray(gl_->seed_vao);
-        gl.BindBuffer(GL_ARRAY_BUFFER, gl_->seed_vbo);
+        gl.GenVertexArrays(1, &gl_->published_vao);
+        gl.GenBuffers(1, &gl_->published_vbo);
+        gl.BindVertexArray(gl_->published_vao);
+        gl.BindBuffer(GL_ARRAY_BUFFER, gl_->published_vbo);
         const auto attribute = [&](GLuint location, GLint size, std::size_t offset) {
             gl.EnableVertexAttribArray(location);
-            gl.VertexAttribPointer(location, size, GL_FLOAT, GL_FALSE, sizeof(VicpSeedVertex),
+            gl.VertexAttribPointer(location, size, GL_FLOAT, GL_FALSE, sizeof(VicpPublishedVertex),
                                    reinterpret_cast<const void*>(offset));
         };
-        attribute(0, 3, offsetof(VicpSeedVertex, position));
-        attribute(1, 1, offsetof(VicpSeedVertex, s));
-        attribute(2, 3, offsetof(VicpSeedVertex, gradient));
-        attribute(3, 3, offsetof(VicpSeedVertex, plane));
-        attribute(4, 1, offsetof(VicpSeedVertex, index));
+        attribute(0, 3, offsetof(VicpPublishedVertex, position));
+        attribute(1, 1, offsetof(VicpPublishedVertex, s));
+        attribute(2, 3, offsetof(VicpPublishedVertex, gradient));
+        attribute(3, 3, offsetof(VicpPublishedVertex, plane));
+        attribute(4, 1, offsetof(VicpPublishedVertex, index));
         gl.BindVertexArray(0);
     }
     gl.GenVertexArrays(1, &gl_->vao);
@@ -225,18 +227,18 @@ void GlVicpRenderer::draw_exact(const VicpFrameSetup& fs, std::size_t begin, std
     }
 }
 
-// The seed's program over stream slots [begin, end), all whole cells: ProjectTet's records of a chunk of cells sent as
-// vertex attributes (three vertices a sent face, vicp_sent_faces), then drawn; the chunk bounds what the GPU holds of
-// them. The records are filled in parallel, each cell at its place in the stream's order (a prefix sum of the faces
+// The published program over stream slots [begin, end), all whole cells: ProjectTet's records of a chunk of cells sent
+// as vertex attributes (three vertices a sent face, vicp_sent_faces), then drawn; the chunk bounds what the GPU holds
+// of them. The records are filled in parallel, each cell at its place in the stream's order (a prefix sum of the faces
 // sent), so the draw does not depend on the thread count.
-void GlVicpRenderer::draw_seed(const VicpFrameSetup& fs, std::size_t begin, std::size_t end, VicpStats& st)
+void GlVicpRenderer::draw_published(const VicpFrameSetup& fs, std::size_t begin, std::size_t end, VicpStats& st)
 {
     const GlFunctions& gl = ctx_.gl();
-    gl.UseProgram(gl_->seed_program->id());
-    gl.BindVertexArray(gl_->seed_vao);
-    gl.BindBuffer(GL_ARRAY_BUFFER, gl_->seed_vbo);
-    const std::size_t chunk = cells_per_draw_ ? cells_per_draw_ : kSeedCellsPerDraw;
-    std::vector<VicpSeedVertex>& records = gl_->records;
+    gl.UseProgram(gl_->published_program->id());
+    gl.BindVertexArray(gl_->published_vao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, gl_->published_vbo);
+    const std::size_t chunk = cells_per_draw_ ? cells_per_draw_ : kPublishedCellsPerDraw;
+    std::vector<VicpPublishedVertex>& records = gl_->records;
     std::vector<uint32_t>& first = gl_->first_face;  // per cell of the chunk: its first sent face; then the total
     std::vector<uint8_t>& faces = gl_->faces;        // per cell of the chunk: vicp_sent_faces
     for (std::size_t c0 = begin; c0 < end; c0 += chunk) {
@@ -252,11 +254,11 @@ void GlVicpRenderer::draw_seed(const VicpFrameSetup& fs, std::size_t begin, std:
         for (std::size_t i = 0; i < n; ++i) first[i + 1] = first[i] + uint32_t(std::popcount(unsigned(faces[i])));
         records.resize(3 * std::size_t(first[n]));
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
-            VicpSeedVertex cell[kVicpVerticesPerTet];
+            VicpPublishedVertex cell[kVicpVerticesPerTet];
             for (std::size_t i = r.begin(); i != r.end(); ++i) {
                 if (!faces[i]) continue;
-                mesh_.seed_records(fs.stream[c0 + i], fs.points_f, cell);
-                VicpSeedVertex* out = &records[3 * std::size_t(first[i])];
+                mesh_.published_records(fs.stream[c0 + i], fs.points_f, cell);
+                VicpPublishedVertex* out = &records[3 * std::size_t(first[i])];
                 for (int f = 0; f < 4; ++f)
                     if (faces[i] & (1u << f)) out = std::copy(cell + 3 * f, cell + 3 * f + 3, out);
             }
@@ -265,7 +267,7 @@ void GlVicpRenderer::draw_seed(const VicpFrameSetup& fs, std::size_t begin, std:
         st.project_ms += ms_since(t0);
         if (records.empty()) continue;
         t0 = Clock::now();
-        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(records.size() * sizeof(VicpSeedVertex)), records.data(),
+        gl.BufferData(GL_ARRAY_BUFFER, GLsizeiptr(records.size() * sizeof(VicpPublishedVertex)), records.data(),
                       GL_STREAM_DRAW);
         st.setup_ms += ms_since(t0);
         t0 = Clock::now();
@@ -285,12 +287,12 @@ VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
     VicpStats& st = out.stats;
     const VicpFrameSetup fs = setup_vicp_frame(mesh_, cam, width, height);
     store_setup_stats(mesh_, fs, st);
-    const bool seed = mesh_.options().interpolation == InterpolationMode::gpu;
+    const bool published = mesh_.options().interpolation == InterpolationMode::gpu;
 
     auto t0 = Clock::now();
-    // The exact program's per-frame buffers (every cell without the seed, the cut cells with it), read at any index by
-    // every draw.
-    if (!seed || !fs.cuts.empty()) {
+    // The exact program's per-frame buffers (every cell without the publication, the cut cells with it), read at any
+    // index by every draw.
+    if (!published || !fs.cuts.empty()) {
         if (double(fs.points_f.size()) * sizeof(glm::vec3) > double(max_block_bytes(ctx_)))
             throw InputError(mesh_.mesh().source, "the frame's " + std::to_string(fs.points_f.size()) +
                                                       " vertices exceed one storage block on " +
@@ -315,33 +317,34 @@ VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
     gl.UseProgram(gl_->program->id());
     set_vicp_frame_uniforms(ctx_, *gl_->program, fs.constants);
     gl.UniformMatrix4fv(gl_->program->uniform("vicp_mvp", true), 1, GL_FALSE, &fs.view.mvp[0][0]);
-    if (seed) {
-        const GlProgram& sp = *gl_->seed_program;
+    if (published) {
+        const GlProgram& sp = *gl_->published_program;
         gl.UseProgram(sp.id());
         set_vicp_frame_uniforms(ctx_, sp, fs.constants);
         gl.UniformMatrix4fv(sp.uniform("vicp_mvp", true), 1, GL_FALSE, &fs.view.mvp[0][0]);
-        const VicpSeedView view = vicp_seed_view(cam);
-        gl.Uniform1i(sp.uniform("vicp_seed_orthographic", true), view.orthographic);
-        gl.Uniform3f(sp.uniform("vicp_seed_direction"), view.direction.x, view.direction.y, view.direction.z);
+        const VicpPublishedView view = vicp_published_view(cam);
+        gl.Uniform1i(sp.uniform("vicp_published_orthographic", true), view.orthographic);
+        gl.Uniform3f(sp.uniform("vicp_published_direction"), view.direction.x, view.direction.y, view.direction.z);
     }
     ctx_.check_error("preparing the VICP draw");
     st.setup_ms = fs.vertex_ms + ms_since(t0);
 
-    if (!seed) {
+    if (!published) {
         draw_exact(fs, 0, fs.stream.size(), st);
     } else {
-        // Runs of whole cells through the seed's program, the cut cells between them in their places through the
-        // exact program (docs/vicp.md, "The cells a view cuts, under the seed"); GL keeps primitive order across draws.
+        // Runs of whole cells through the published program, the cut cells between them in their places through the
+        // exact program (docs/vicp.md, "The cells a view cuts, under the publication"); GL keeps primitive order across
+        // draws.
         std::size_t slot = 0;
         for (std::size_t i = 0; i < fs.cuts.size();) {
             const std::size_t first = fs.cuts[i].slot;
             std::size_t last = first + 1;  // a run of consecutive cut cells, one exact draw
             for (++i; i < fs.cuts.size() && fs.cuts[i].slot == last; ++i) ++last;
-            if (first > slot) draw_seed(fs, slot, first, st);
+            if (first > slot) draw_published(fs, slot, first, st);
             draw_exact(fs, first, last, st);
             slot = last;
         }
-        if (fs.stream.size() > slot) draw_seed(fs, slot, fs.stream.size(), st);
+        if (fs.stream.size() > slot) draw_published(fs, slot, fs.stream.size(), st);
     }
     t0 = Clock::now();
     gl.Finish();

@@ -1,4 +1,4 @@
-// VICP on a real GL context (issue 6): the GL twin of the emulated driver gpu/vicp/vicp.cpp. The CPU stage is the same
+// VICP on a real GL context: the GL twin of the emulated driver gpu/vicp/vicp.cpp. The CPU stage is the same
 // code (vicp_setup: the cell order, ProjectTet's stream, the snapped points, the frame's constants); the GPU runs
 // shaders/vicp.vert (the vertex program: each cell's constants, flat) on 12 vertices a cell, rasterizes (no culling),
 // and runs shaders/vicp.frag (the fragment program: the segment, compositing front to back through
@@ -27,7 +27,7 @@ public:
     GlVicpRenderer(const GlVicpRenderer&) = delete;
     GlVicpRenderer& operator=(const GlVicpRenderer&) = delete;
 
-    // Renders one frame and reads it back (float32 RGBA, SPEC §2 rows, with the per-pixel diagnostics). Stats:
+    // Renders one frame and reads it back (float32 RGBA, docs/spec.md §2 rows, with the per-pixel diagnostics). Stats:
     // sort_ms and project_ms are CPU time, setup_ms the vertex positions, snapping and uploads,
     // raster_fragment_ms the draws up to glFinish, readback_ms the glReadPixels.
     VicpFrame render(const Camera& camera, int width, int height);
@@ -40,17 +40,17 @@ public:
     const VicpMesh& cpu_stage() const { return mesh_; }
 
     // --send (--interpolation gpu): the faces that make fragments (covered, the default) or all four of every cell, as
-    // the seed sends them (vicp_sent_faces). The frame's bits are the same.
+    // the publication sends them (vicp_sent_faces). The frame's bits are the same.
     void set_submission(TriangleSubmission s) { submission_ = s; }
 
-    // Cells a seed draw sends (--interpolation gpu): 16,384 cells are 8.6 MB of records (528 bytes a cell), which the
-    // GPU holds whatever the mesh's size.
-    static constexpr std::size_t kSeedCellsPerDraw = 16384;
+    // Cells a published draw sends (--interpolation gpu): 16,384 cells are 8.6 MB of records (528 bytes a cell), which
+    // the GPU holds whatever the mesh's size.
+    static constexpr std::size_t kPublishedCellsPerDraw = 16384;
 
 private:
     struct Objects;
     void draw_exact(const VicpFrameSetup& fs, std::size_t begin, std::size_t end, VicpStats& st);
-    void draw_seed(const VicpFrameSetup& fs, std::size_t begin, std::size_t end, VicpStats& st);
+    void draw_published(const VicpFrameSetup& fs, std::size_t begin, std::size_t end, VicpStats& st);
     GlContext& ctx_;
     VicpMesh mesh_;
     std::size_t cells_per_draw_ = 0;

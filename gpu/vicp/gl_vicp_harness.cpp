@@ -115,16 +115,20 @@ const GlProgram& GlVicpHarness::program(int which)
     if (!p) {
         if (which == 4) {
             p = std::make_unique<GlProgram>(
-                ctx_, GlShaderSource{{"vicp_seed.glsl", "vicp_seed_vertex.vert", "vicp_harness.vert"}, {{"HARNESS_SEED_VERTEX", "1"}}, {}},
-                GlShaderSource{{"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp_harness.frag"},
-                               {{"HARNESS_NONE", "1"}},
-                               {}});
+                ctx_,
+                GlShaderSource{{"vicp_published.glsl", "vicp_published_vertex.vert", "vicp_harness.vert"},
+                               {{"HARNESS_PUBLISHED_VERTEX", "1"}},
+                               {}},
+                GlShaderSource{
+                    {"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp_harness.frag"},
+                    {{"HARNESS_NONE", "1"}},
+                    {}});
         } else if (which == 5) {
             p = std::make_unique<GlProgram>(
                 ctx_, GlShaderSource{{"fullscreen.vert"}, {}, {}},
                 GlShaderSource{{"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag",
-                                "vicp_seed_fragment.frag", "vicp_harness.frag"},
-                               {{"HARNESS_SEED_EXIT", "1"}},
+                                "vicp_published_fragment.frag", "vicp_harness.frag"},
+                               {{"HARNESS_PUBLISHED_EXIT", "1"}},
                                {}});
         } else if (which == 0) {
             // A fragment stage is needed to link; with the rasterizer discarding it never runs.
@@ -263,31 +267,31 @@ std::vector<VicpCompositeResult> GlVicpHarness::run_composite(const VicpFrameCon
     return out;
 }
 
-std::vector<VicpSeedVaryings> GlVicpHarness::run_seed_vertex(const VicpSeedView& view,
-                                                             const std::vector<VicpSeedVertex>& cases)
+std::vector<VicpPublishedVaryings> GlVicpHarness::run_published_vertex(const VicpPublishedView& view,
+                                                                       const std::vector<VicpPublishedVertex>& cases)
 {
     ctx_.make_current();
     const GlFunctions& gl = ctx_.gl();
     const GlProgram& prog = program(4);
     gl.UseProgram(prog.id());
-    gl.Uniform1i(prog.uniform("vicp_seed_orthographic"), view.orthographic);
-    gl.Uniform3f(prog.uniform("vicp_seed_direction"), view.direction.x, view.direction.y, view.direction.z);
+    gl.Uniform1i(prog.uniform("vicp_published_orthographic"), view.orthographic);
+    gl.Uniform3f(prog.uniform("vicp_published_direction"), view.direction.x, view.direction.y, view.direction.z);
     gl.BindVertexArray(vao_);
     gl.Enable(GL_RASTERIZER_DISCARD);
-    std::vector<VicpSeedVaryings> out(cases.size());
+    std::vector<VicpPublishedVaryings> out(cases.size());
     for (std::size_t base = 0; base < cases.size(); base += kChunk) {
         const std::size_t m = std::min(kChunk, cases.size() - base);
         HarnessPass pass(gl);
-        pass.storage(0, cases.data() + base, m * sizeof(VicpSeedVertex));  // 11 floats a case, as the std430 array
+        pass.storage(0, cases.data() + base, m * sizeof(VicpPublishedVertex));  // 11 floats a case, as the std430 array
         const GLuint results = pass.storage(1, nullptr, m * 8 * sizeof(float));
         pass.targets(ctx_, {GL_RGBA32F}, 1, 1);  // a complete framebuffer (EGL has no default one), never drawn into
         gl.DrawArrays(GL_POINTS, 0, GLsizei(m));
         std::vector<float> res(m * 8);
         pass.read_storage(results, res.data(), res.size() * sizeof(float));
-        ctx_.check_error("the VICP seed vertex harness pass");
+        ctx_.check_error("the VICP published vertex harness pass");
         for (std::size_t i = 0; i < m; ++i) {
             const float* r = &res[8 * i];
-            VicpSeedVaryings& v = out[base + i];
+            VicpPublishedVaryings& v = out[base + i];
             v.distance = {r[0], r[1], r[2]};
             v.s = r[3];
             v.scalar = {r[4], r[5], r[6]};
@@ -297,7 +301,7 @@ std::vector<VicpSeedVaryings> GlVicpHarness::run_seed_vertex(const VicpSeedView&
     return out;
 }
 
-std::vector<VicpSeedExit> GlVicpHarness::run_seed_exit(const std::vector<VicpSeedVaryings>& cases)
+std::vector<VicpPublishedExit> GlVicpHarness::run_published_exit(const std::vector<VicpPublishedVaryings>& cases)
 {
     ctx_.make_current();
     const GlFunctions& gl = ctx_.gl();
@@ -305,13 +309,13 @@ std::vector<VicpSeedExit> GlVicpHarness::run_seed_exit(const std::vector<VicpSee
     gl.UseProgram(prog.id());
     gl.Uniform1i(prog.uniform("harness_width"), kHarnessWidth);
     gl.BindVertexArray(vao_);
-    std::vector<VicpSeedExit> out(cases.size());
+    std::vector<VicpPublishedExit> out(cases.size());
     for (std::size_t base = 0; base < cases.size(); base += kChunk) {
         const std::size_t m = std::min(kChunk, cases.size() - base);
         const int w = kHarnessWidth, h = int((m + std::size_t(w) - 1) / std::size_t(w));
         std::vector<glm::vec4> in(2 * m);
         for (std::size_t i = 0; i < m; ++i) {
-            const VicpSeedVaryings& c = cases[base + i];
+            const VicpPublishedVaryings& c = cases[base + i];
             in[2 * i] = glm::vec4(c.distance, c.s);
             in[2 * i + 1] = glm::vec4(c.scalar, 0.0f);
         }
@@ -323,9 +327,9 @@ std::vector<VicpSeedExit> GlVicpHarness::run_seed_exit(const std::vector<VicpSee
         gl.DrawArrays(GL_TRIANGLES, 0, 3);
         std::vector<glm::vec4> res(m);
         pass.read_storage(results, res.data(), m * sizeof(glm::vec4));
-        ctx_.check_error("the VICP seed exit harness pass");
+        ctx_.check_error("the VICP published exit harness pass");
         for (std::size_t i = 0; i < m; ++i)
-            out[base + i] = VicpSeedExit{int(res[i].w), res[i].x, res[i].y, res[i].z};
+            out[base + i] = VicpPublishedExit{int(res[i].w), res[i].x, res[i].y, res[i].z};
     }
     return out;
 }

@@ -1,12 +1,11 @@
-// Runs VICP's GL shader stages alone on chosen inputs, for bit-for-bit comparison with their emulations (SPEC §5,
-// stage level), as gpu/havs/gl_havs_harness.h does for HAVS: the vertex program's constants (a point draw with the
+// Runs VICP's GL shader stages alone on chosen inputs, for bit-for-bit comparison with their emulations (docs/spec.md
+// §5, stage level), as gpu/havs/gl_havs_harness.h does for HAVS: the vertex program's constants (a point draw with the
 // rasterizer discarding, written to a storage buffer); the fragment program's two parts, vicp_fragment_values and
-// vicp_composite (one case per pixel of a full-screen pass); the seed's vertex program and its fragment program's
-// exit (run_seed_vertex, run_seed_exit: --interpolation gpu). Inputs and outputs travel in storage buffers whose
-// std430 layouts are the Gl* structs below (read back exactly).
-// Twins: shaders/vicp_harness.vert and .frag (their mains); emulated stages gpu/vicp/vicp_vertex.h,
-// gpu/vicp/vicp_fragment.h, gpu/vicp/vicp_seed_vertex.h, gpu/vicp/vicp_seed_fragment.h; GL uniforms
-// gpu/vicp/gl_vicp_fragment.h. Tests only (library uvr_gl_harness).
+// vicp_composite (one case per pixel of a full-screen pass); the published vertex program and its fragment program's
+// exit (run_published_vertex, run_published_exit: --interpolation gpu). Inputs and outputs travel in storage buffers
+// whose std430 layouts are the Gl* structs below (read back exactly). Twins: shaders/vicp_harness.vert and .frag (their
+// mains); emulated stages gpu/vicp/vicp_vertex.h, gpu/vicp/vicp_fragment.h, gpu/vicp/vicp_published_vertex.h,
+// gpu/vicp/vicp_published_fragment.h; GL uniforms gpu/vicp/gl_vicp_fragment.h. Tests only (library uvr_gl_harness).
 #pragma once
 
 #include <cstddef>
@@ -21,7 +20,7 @@
 #include "gpu/gl/gl_context.h"
 #include "gpu/pipeline/preintegration_table.h"
 #include "gpu/vicp/vicp_fragment.h"
-#include "gpu/vicp/vicp_seed_vertex.h"
+#include "gpu/vicp/vicp_published_vertex.h"
 
 namespace uvr::gpu {
 
@@ -65,8 +64,9 @@ public:
 
     std::vector<VicpTet> run_vertex(const std::vector<VicpVertexCase>& cases);
 
-    std::vector<VicpSeedVaryings> run_seed_vertex(const VicpSeedView& view, const std::vector<VicpSeedVertex>& cases);
-    std::vector<VicpSeedExit> run_seed_exit(const std::vector<VicpSeedVaryings>& cases);
+    std::vector<VicpPublishedVaryings> run_published_vertex(const VicpPublishedView& view,
+                                                            const std::vector<VicpPublishedVertex>& cases);
+    std::vector<VicpPublishedExit> run_published_exit(const std::vector<VicpPublishedVaryings>& cases);
 
     std::vector<VicpSegment> run_values(const VicpFrameConstants& fc, const std::vector<VicpTet>& tets,
                                         const std::vector<glm::ivec2>& pixels);
@@ -82,7 +82,7 @@ private:
     GLuint vao_ = 0;
     GLuint table_texture_ = 0;
     std::map<int, std::unique_ptr<GlProgram>> programs_;  // 0 vertex, 1 values, 2 composite, 3 composite + table,
-                                                          // 4 seed vertex, 5 seed exit
+                                                          // 4 published vertex, 5 published exit
 
     const GlProgram& program(int which);
 };

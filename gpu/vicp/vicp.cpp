@@ -15,16 +15,11 @@
 #include "gpu/pipeline/clip_position.h"
 #include "gpu/pipeline/denormals.h"
 #include "gpu/pipeline/tiles.h"
-#include "gpu/vicp/vicp_seed_fragment.h"
+#include "gpu/vicp/vicp_published_fragment.h"
 #include "reference/error.h"
+#include "reference/timing.h"
 
 namespace uvr::gpu {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-}  // namespace
 
 void store_vicp_frame(const std::vector<glm::vec4>& colour, const std::vector<VicpDiagnostics>& diag, int width,
                       int height, VicpFrame& out)
@@ -97,20 +92,21 @@ void VicpRenderer::composite_exact_coverage(const VicpFrameConstants& fc, const 
         }
 }
 
-// --interpolation gpu: the seed's programs on a whole cell: ProjectTet's records, VertexProg at each front face's
+// --interpolation gpu: the published programs on a whole cell: ProjectTet's records, VertexProg at each front face's
 // vertices, the varyings through the interpolation stage, FragmentProg's exit, today's compositing. The segment's
-// distance from the eye (the ordering-error diagnostic's) is the interpolated entry point's (vicp_seed_entry_distance);
-// the wrong-exit and length diagnostics compare with the exact variant's segment, which only the emulation computes.
-void VicpRenderer::composite_seed(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot,
-                                  const VicpSeedView& view, const std::vector<SetupVertex>& setup, const TileRect& tile,
-                                  ViewportArithmetic arith, const SegmentShader& shade, int width,
-                                  std::vector<glm::vec4>& fb, std::vector<VicpDiagnostics>& diag,
-                                  std::vector<uint32_t>& wrong_exits, std::vector<float>& length_error) const
+// distance from the eye (the ordering-error diagnostic's) is the interpolated entry point's
+// (vicp_published_entry_distance); the wrong-exit and length diagnostics compare with the exact variant's segment,
+// which only the emulation computes.
+void VicpRenderer::composite_published(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot,
+                                       const VicpPublishedView& view, const std::vector<SetupVertex>& setup,
+                                       const TileRect& tile, ViewportArithmetic arith, const SegmentShader& shade,
+                                       int width, std::vector<glm::vec4>& fb, std::vector<VicpDiagnostics>& diag,
+                                       std::vector<uint32_t>& wrong_exits, std::vector<float>& length_error) const
 {
     const Framebuffer fbuf{fs.width, fs.height, RenderTarget::fbo};
     const VicpCell& cell = fs.stream[slot];
     bool have_records = false;
-    VicpSeedVertex records[12];
+    VicpPublishedVertex records[12];
     VicpTet tet;
     for (int f = 0; f < 4; ++f) {
         const uint32_t v[3] = {cell.v[std::size_t(kVicpCorner[f][0])], cell.v[std::size_t(kVicpCorner[f][1])],
@@ -119,15 +115,15 @@ void VicpRenderer::composite_seed(const VicpFrameConstants& fc, const VicpFrameS
         const TriangleSetup ts = setup_triangle(wv, fbuf);
         if (ts.empty() || ts.facing != Facing::front) continue;
         if (!have_records) {
-            mesh_.seed_records(cell, fs.points_f, records);
+            mesh_.published_records(cell, fs.points_f, records);
             tet = mesh_.constants(cell, fs.snapped);
             have_records = true;
         }
         const SetupVertex sv[3] = {setup[v[0]], setup[v[1]], setup[v[2]]};
-        VicpSeedVaryings vary[3];
-        for (int j = 0; j < 3; ++j) vary[j] = vicp_seed_vertex_program(view, records[3 * f + j]);
-        const VicpSeedPlanes planes = vicp_seed_planes(sv, vary, ts);
-        // The ordering-error diagnostic's entry point (vicp_seed_entry_distance): the vertex positions, `smooth`.
+        VicpPublishedVaryings vary[3];
+        for (int j = 0; j < 3; ++j) vary[j] = vicp_published_vertex_program(view, records[3 * f + j]);
+        const VicpPublishedPlanes planes = vicp_published_planes(sv, vary, ts);
+        // The ordering-error diagnostic's entry point (vicp_published_entry_distance): the vertex positions, `smooth`.
         AttributePlane entry_planes[3];
         for (int c = 0; c < 3; ++c) {
             const float x[3] = {records[3 * f].position[c], records[3 * f + 1].position[c],
@@ -136,10 +132,10 @@ void VicpRenderer::composite_seed(const VicpFrameConstants& fc, const VicpFrameS
         }
         for_each_fragment_in_tile(ts, tile, [&](int px, int py) {
             const float factor = perspective_factor(planes.setup, px, py, arith);  // shared by every smooth input
-            const VicpSeedExit e = vicp_seed_exit(vicp_seed_varyings_at(planes, px, py, factor, arith));
+            const VicpPublishedExit e = vicp_published_exit(vicp_published_varyings_at(planes, px, py, factor, arith));
             glm::vec3 entry;
             interpolate(entry_planes, 3, Qualifier::smooth, px, py, factor, arith, &entry[0]);
-            const double t_in = double(vicp_seed_entry_distance(view, entry));
+            const double t_in = double(vicp_published_entry_distance(view, entry));
             const VicpSegment seg{e.s_front, e.s_back, t_in, t_in + double(e.length), e.length};
             const VicpSegment exact = vicp_fragment_values(fc, tet, px, py);
             const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
@@ -162,121 +158,148 @@ VicpRenderer::VicpRenderer(const TetMesh& mesh, const MeshTopology& topo, std::s
 {
 }
 
+namespace {
+
+constexpr uint32_t kWholeCell = UINT32_MAX;
+
+// Which stream slots hold a cell the view cuts, and its index in fs.cuts (kWholeCell for a whole cell).
+class CutSlots {
+public:
+    explicit CutSlots(const VicpFrameSetup& fs)
+    {
+        if (fs.cuts.empty()) return;
+        of_slot_.assign(fs.stream.size(), kWholeCell);
+        for (uint32_t i = 0; i < fs.cuts.size(); ++i) of_slot_[fs.cuts[i].slot] = i;
+    }
+    uint32_t operator()(uint32_t slot) const { return of_slot_.empty() ? kWholeCell : of_slot_[slot]; }
+
+private:
+    std::vector<uint32_t> of_slot_;
+};
+
+// The stream's cells binned into screen tiles by the bounding boxes of the points they are drawn with: their four
+// points, or their fans' vertices for the cells the view cuts.
+void bin_cells(const VicpFrameSetup& fs, const CutSlots& cut_index, ScreenTiles& tiles)
+{
+    tiles.bin(fs.stream.size(), [&](std::size_t slot) {
+        const uint32_t c = cut_index(uint32_t(slot));
+        if (c == kWholeCell) return tiles.range(fs.win, fs.stream[slot].v.data(), 4);
+        ScreenTiles::Range r;  // the hull of the fan triangles' boxes: the box of all their vertices
+        for (uint32_t k = fs.cuts[c].first; k < fs.cuts[c].first + fs.cuts[c].count; ++k)
+            r = r.hull(tiles.range(fs.win, &fs.fans[4 * std::size_t(k)], 3));
+        return r;
+    });
+}
+
+// The exact variant on one cell in one tile (and, in both modes, a cell the view cuts): each triangle rasterized, its
+// fragments through the fragment program when it is front-facing by llvmpipe's fixed-point area (only the faces the
+// eye sees from outside the cell make fragments; GL discards the others on gl_FrontFacing, shaders/vicp.frag).
+void composite_exact_interpolation(const VicpMesh& mesh, const VicpFrameSetup& fs, uint32_t slot, uint32_t cut,
+                                   const TileRect& tile, const Framebuffer& fbuf, const SegmentShader& shade,
+                                   std::vector<glm::vec4>& fb, std::vector<VicpDiagnostics>& diag)
+{
+    const VicpFrameConstants& fc = fs.constants;
+    bool have_constants = false;
+    VicpTet tet;
+    const auto draw = [&](const uint32_t v0, const uint32_t v1, const uint32_t v2) {
+        const WindowCoord wv[3] = {fs.win[v0], fs.win[v1], fs.win[v2]};
+        const TriangleSetup ts = setup_triangle(wv, fbuf);
+        if (ts.empty() || ts.facing != Facing::front) return;
+        for_each_fragment_in_tile(ts, tile, [&](int px, int py) {
+            if (!have_constants) {
+                tet = mesh.constants(fs.stream[slot], fs.snapped);  // the vertex program's flat outputs
+                have_constants = true;
+            }
+            const std::size_t p = std::size_t(py) * std::size_t(fbuf.width) + std::size_t(px);
+            const VicpSegment seg = vicp_fragment_values(fc, tet, px, py);
+            vicp_composite(fc, seg, fb[p], shade, &diag[p]);
+        });
+    };
+    if (cut == kWholeCell) {
+        const Tet& t = fs.stream[slot].v;
+        for (int f = 0; f < 4; ++f) draw(t[kVicpCorner[f][0]], t[kVicpCorner[f][1]], t[kVicpCorner[f][2]]);
+        return;
+    }
+    for (uint32_t k = fs.cuts[cut].first; k < fs.cuts[cut].first + fs.cuts[cut].count; ++k) {
+        const uint32_t* tri = &fs.fans[4 * std::size_t(k)];
+        draw(tri[0], tri[1], tri[2]);
+    }
+}
+
+// What the GL driver sends of the published stream under its default (--send covered): the faces that make fragments.
+uint64_t published_sent_faces(const VicpFrameSetup& fs, const CutSlots& cut_index)
+{
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, fs.stream.size()), uint64_t(0),
+        [&](const tbb::blocked_range<std::size_t>& r, uint64_t n) {
+            for (std::size_t slot = r.begin(); slot != r.end(); ++slot)
+                if (cut_index(uint32_t(slot)) == kWholeCell)
+                    n += uint64_t(std::popcount(vicp_sent_faces(fs, fs.stream[slot], TriangleSubmission::covered)));
+            return n;
+        },
+        std::plus<uint64_t>());
+}
+
+}  // namespace
+
 VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
 {
     VicpFrame out;
     VicpStats& st = out.stats;
     const VicpFrameSetup fs = setup_vicp_frame(mesh_, cam, width, height);
     const VicpFrameConstants& fc = fs.constants;
-    const std::vector<WindowCoord>& win = fs.win;
-    const std::vector<VicpCell>& stream = fs.stream;
     store_setup_stats(mesh_, fs, st);
     const Framebuffer fbuf{width, height, RenderTarget::fbo};
+    const bool exact_coverage = mesh_.options().coverage == Coverage::exact;
+    const bool published = mesh_.options().interpolation == InterpolationMode::gpu;
+    if (published && exact_coverage)
+        throw InputError(mesh_.mesh().source,
+                         "--interpolation gpu with --algo vicp takes the rasterizer's coverage only");
 
-    // Bin the stream's cells into screen tiles by the bounding boxes of the points they are drawn with: their four
-    // points, or their fans' vertices for the cells the view cuts.
+    // Set-up: the tiles; with the published program, what attribute setup receives of each vertex.
     auto t0 = Clock::now();
-    constexpr uint32_t kWholeCell = UINT32_MAX;
-    std::vector<uint32_t> cut_of_slot;  // per slot, when the view cuts cells: its index in fs.cuts, or kWholeCell
-    if (!fs.cuts.empty()) {
-        cut_of_slot.assign(stream.size(), kWholeCell);
-        for (uint32_t i = 0; i < fs.cuts.size(); ++i) cut_of_slot[fs.cuts[i].slot] = i;
-    }
-    const auto cut_index = [&](uint32_t slot) { return cut_of_slot.empty() ? kWholeCell : cut_of_slot[slot]; };
+    const CutSlots cut_index(fs);
     ScreenTiles tiles(width, height);
-    tiles.bin(stream.size(), [&](std::size_t slot) {
-        const uint32_t c = cut_index(uint32_t(slot));
-        if (c == kWholeCell) return tiles.range(win, stream[slot].v.data(), 4);
-        ScreenTiles::Range r;  // the hull of the fan triangles' boxes: the box of all their vertices
-        for (uint32_t k = fs.cuts[c].first; k < fs.cuts[c].first + fs.cuts[c].count; ++k)
-            r = r.hull(tiles.range(win, &fs.fans[4 * std::size_t(k)], 3));
-        return r;
-    });
+    bin_cells(fs, cut_index, tiles);
     st.setup_ms = fs.vertex_ms + ms_since(t0);
-
     const SegmentShader shade =
         segment_shader(mesh_.table(), mesh_.options().filter, mesh_.integrator(), mesh_.range());
     const std::size_t npix = std::size_t(width) * std::size_t(height);
     std::vector<glm::vec4> fb(npix, glm::vec4(0.0f));
     std::vector<VicpDiagnostics> diag(npix);
-
     t0 = Clock::now();
-    const bool exact_coverage = mesh_.options().coverage == Coverage::exact;
-    const bool seed = mesh_.options().interpolation == InterpolationMode::gpu;
-    if (seed && exact_coverage)
-        throw InputError(mesh_.mesh().source, "--interpolation gpu with --algo vicp takes the rasterizer's coverage only");
-    std::vector<SetupVertex> setup;  // the seed's: what attribute setup receives of each vertex
-    std::vector<uint32_t> wrong_exits(seed ? npix : 0);  // per pixel, GL rows
-    std::vector<float> length_error(seed ? npix : 0);
-    if (seed) {
+    std::vector<SetupVertex> setup;
+    std::vector<uint32_t> wrong_exits(published ? npix : 0);  // per pixel, GL rows
+    std::vector<float> length_error(published ? npix : 0);
+    if (published) {
         const FlushDenormals llvmpipe_mxcsr;  // the draw module's viewport transform runs so (gpu/pipeline/denormals.h)
         setup.resize(fs.points_f.size());
         for (std::size_t i = 0; i < setup.size(); ++i)
             setup[i] = setup_vertex(vertex_position(fs.view, fs.points_f[i]).data(), fbuf);
     }
-    const VicpSeedView seed_view = vicp_seed_view(cam);
+    const VicpPublishedView published_view = vicp_published_view(cam);
     const ViewportArithmetic arith = host_viewport_arithmetic();
+
+    // Raster per tile, each cell in stream order.
     tiles.visit([&](const TileRect& tile, const std::vector<uint32_t>& items) {
         for (uint32_t slot : items) {
-            if (exact_coverage) {
-                composite_exact_coverage(fc, fs, slot, cut_index(slot) != kWholeCell, tile, shade, width, fb, diag);
-                continue;
-            }
-            // The cells the view cuts are drawn by the exact variant in both modes: the seed's vertex program cannot
-            // give a clipped face's new vertices or a near section their distances (docs/vicp.md, "The cells a view
-            // cuts, under the seed").
-            if (seed && cut_index(slot) == kWholeCell) {
-                composite_seed(fc, fs, slot, seed_view, setup, tile, arith, shade, width, fb, diag, wrong_exits,
-                               length_error);
-                continue;
-            }
-            bool have_constants = false;
-            VicpTet tet;
-            // One triangle of the cell, rasterized, its fragments through the fragment program when it is front-facing
-            // by llvmpipe's fixed-point area (only the faces the eye sees from outside the cell make fragments; GL
-            // discards the others on gl_FrontFacing, shaders/vicp.frag).
-            const auto draw = [&](const uint32_t v0, const uint32_t v1, const uint32_t v2) {
-                const WindowCoord wv[3] = {win[v0], win[v1], win[v2]};
-                const TriangleSetup ts = setup_triangle(wv, fbuf);
-                if (ts.empty() || ts.facing != Facing::front) return;
-                for_each_fragment_in_tile(ts, tile, [&](int px, int py) {
-                    if (!have_constants) {
-                        tet = mesh_.constants(stream[slot], fs.snapped);  // the vertex program's flat outputs
-                        have_constants = true;
-                    }
-                    const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
-                    const VicpSegment seg = vicp_fragment_values(fc, tet, px, py);
-                    vicp_composite(fc, seg, fb[p], shade, &diag[p]);
-                });
-            };
-            const uint32_t c = cut_index(slot);
-            if (c == kWholeCell) {
-                const Tet& t = stream[slot].v;
-                for (int f = 0; f < 4; ++f) draw(t[kVicpCorner[f][0]], t[kVicpCorner[f][1]], t[kVicpCorner[f][2]]);
-            } else {
-                for (uint32_t k = fs.cuts[c].first; k < fs.cuts[c].first + fs.cuts[c].count; ++k) {
-                    const uint32_t* tri = &fs.fans[4 * std::size_t(k)];
-                    draw(tri[0], tri[1], tri[2]);
-                }
-            }
+            const uint32_t cut = cut_index(slot);
+            if (exact_coverage) composite_exact_coverage(fc, fs, slot, cut != kWholeCell, tile, shade, width, fb, diag);
+            // The cells the view cuts are drawn by the exact variant in both modes: the published vertex program
+            // cannot give a clipped face's new vertices or a near section their distances (docs/vicp.md, "The cells
+            // a view cuts, under the publication").
+            else if (published && cut == kWholeCell)
+                composite_published(fc, fs, slot, published_view, setup, tile, arith, shade, width, fb, diag,
+                                    wrong_exits, length_error);
+            else
+                composite_exact_interpolation(mesh_, fs, slot, cut, tile, fbuf, shade, fb, diag);
         }
     });
     st.raster_fragment_ms = ms_since(t0);
-
-    // What the GL driver would send under its default (--send covered): the faces that make fragments.
-    if (seed)
-        st.sent_faces = tbb::parallel_reduce(
-            tbb::blocked_range<std::size_t>(0, stream.size()), uint64_t(0),
-            [&](const tbb::blocked_range<std::size_t>& r, uint64_t n) {
-                for (std::size_t slot = r.begin(); slot != r.end(); ++slot)
-                    if (cut_index(uint32_t(slot)) == kWholeCell)
-                        n += uint64_t(std::popcount(vicp_sent_faces(fs, stream[slot], TriangleSubmission::covered)));
-                return n;
-            },
-            std::plus<uint64_t>());
+    if (published) st.sent_faces = published_sent_faces(fs, cut_index);
 
     store_vicp_frame(fb, diag, width, height, out);
-    if (seed) {
+    if (published) {
         out.wrong_exits.resize(npix);
         out.length_error.resize(npix);
         for_each_gl_pixel(width, height, [&](std::size_t p, std::size_t q) {

@@ -1,8 +1,8 @@
-// View-Independent Cell Projection (Weiler, Kraus, Ertl 2003; seed 003) emulated on the CPU as a GPU runs it: the
-// cells ordered on the CPU (vicp_order), ProjectTet's stream (vicp_setup) with the cells the view cuts clipped
-// (vicp_clip), each cell's four faces through the vertex stage (vicp_vertex), rasterized with llvmpipe's rules and
-// back faces culled (rasterize), each fragment through the fragment program (vicp_fragment). docs/vicp.md.
-// Twins: shaders/vicp.vert and shaders/vicp.frag (the draw's mains); GL driver gpu/vicp/gl_vicp.h; GL uniforms
+// View-Independent Cell Projection (Weiler, Kraus, Ertl 2003; Moreland's dissertation) emulated on the CPU as a GPU
+// runs it: the cells ordered on the CPU (vicp_order), ProjectTet's stream (vicp_setup) with the cells the view cuts
+// clipped (vicp_clip), each cell's four faces through the vertex stage (vicp_vertex), rasterized with llvmpipe's rules
+// and back faces culled (rasterize), each fragment through the fragment program (vicp_fragment). docs/vicp.md. Twins:
+// shaders/vicp.vert and shaders/vicp.frag (the draw's mains); GL driver gpu/vicp/gl_vicp.h; GL uniforms
 // gpu/vicp/gl_vicp_fragment.h; harness gpu/vicp/gl_vicp_harness.h.
 #pragma once
 
@@ -26,7 +26,7 @@ struct VicpStats {
     // triangles, and triangles with a vertex the GPU's frustum test would clip (0 unless its margins failed).
     uint64_t clipped_cells = 0, culled_cells = 0, near_sections = 0, fan_triangles = 0, gpu_clipped = 0;
     // --interpolation gpu (emulation): fragments whose smallest positive distance picked another face than the exact
-    // crossing's exit (the seed's wrong exits, docs/vicp.md "The seed's pipeline").
+    // crossing's exit (the published wrong exits, docs/vicp.md "The published pipeline").
     uint64_t wrong_exits = 0;
     // --interpolation gpu: the faces ProjectTet sends (vicp_sent_faces; the emulation counts the GL driver's default,
     // covered).
@@ -36,14 +36,15 @@ struct VicpStats {
 
 struct VicpFrame {
     Image image;
-    // Per pixel, SPEC §2 order (row 0 at the top): fragments, ordering errors; with the seed's interpolation
+    // Per pixel, docs/spec.md §2 order (row 0 at the top): fragments, ordering errors; with the published interpolation
     // (emulation), wrong exits and the largest |interpolated - exact| segment length of the pixel's fragments.
     std::vector<uint32_t> fragments, ordering_errors, wrong_exits;
     std::vector<float> length_error;
     VicpStats stats;
 };
 
-// The end of a frame, for both backends: colour and diagnostics (GL rows, from the bottom) into `out` (SPEC rows).
+// The end of a frame, for both backends: colour and diagnostics (GL rows, from the bottom) into `out` (image rows (row
+// 0 on top)).
 void store_vicp_frame(const std::vector<glm::vec4>& colour, const std::vector<VicpDiagnostics>& diagnostics, int width,
                       int height, VicpFrame& out);
 
@@ -61,11 +62,11 @@ public:
 private:
     VicpMesh mesh_;
 
-    void composite_seed(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot, const VicpSeedView& view,
-                        const std::vector<SetupVertex>& setup, const TileRect& tile, ViewportArithmetic arith,
-                        const SegmentShader& shade, int width, std::vector<glm::vec4>& fb,
-                        std::vector<VicpDiagnostics>& diag, std::vector<uint32_t>& wrong_exits,
-                        std::vector<float>& length_error) const;
+    void composite_published(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot,
+                             const VicpPublishedView& view, const std::vector<SetupVertex>& setup, const TileRect& tile,
+                             ViewportArithmetic arith, const SegmentShader& shade, int width,
+                             std::vector<glm::vec4>& fb, std::vector<VicpDiagnostics>& diag,
+                             std::vector<uint32_t>& wrong_exits, std::vector<float>& length_error) const;
     void composite_exact_coverage(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot, bool cut,
                                   const TileRect& tile, const SegmentShader& shade, int width, std::vector<glm::vec4>& fb,
                                   std::vector<VicpDiagnostics>& diag) const;

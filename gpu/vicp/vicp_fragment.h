@@ -1,10 +1,10 @@
-// VICP's fragment stage (seed 003, VICP-FragmentProg), emulated operation by operation: vicp_fragment_values (the
-// frame's constants, the tetrahedron's flat VicpTet, the pixel -> the segment of the pixel's ray in the cell, in
-// double) and vicp_composite (the segment, the framebuffer colour, a SegmentShader -> the colour composited front to
-// back in float, or a kill).
-// Twins: shaders/vicp_fragment.frag; GL uniforms gpu/vicp/gl_vicp_fragment.h; harness gpu/vicp/gl_vicp_harness.h.
-// Derivation: docs/vicp.md, "The fragment values" (the exit by direction), "Snapping" (the constants come from the
-// points where the rasterizer snapped them) and "The float part".
+// VICP's fragment stage (Moreland's dissertation, VICP-FragmentProg), emulated operation by operation:
+// vicp_fragment_values (the frame's constants, the tetrahedron's flat VicpTet, the pixel -> the segment of the pixel's
+// ray in the cell, in double) and vicp_composite (the segment, the framebuffer colour, a SegmentShader -> the colour
+// composited front to back in float, or a kill). Twins: shaders/vicp_fragment.frag; GL uniforms
+// gpu/vicp/gl_vicp_fragment.h; harness gpu/vicp/gl_vicp_harness.h. Derivation: docs/vicp.md, "The fragment values" (the
+// exit by direction), "Snapping" (the constants come from the points where the rasterizer snapped them) and "The float
+// part".
 #pragma once
 
 #include <cstdint>
@@ -18,10 +18,11 @@
 
 namespace uvr::gpu {
 
-// Per-frame constants (uniforms): the pixels' rays (gpu/pipeline/pixel_rays.h) relative to the mesh's centre, and the rest.
+// Per-frame constants (uniforms): the pixels' rays (gpu/pipeline/pixel_rays.h) relative to the mesh's centre, and the
+// rest.
 struct VicpFrameConstants : PixelRays {
     float threshold = 1.0f;                   // the opacity kill; 1 (the default for VICP) never kills
-    float length_scale = 0.0f, length_bias = 0.0f;  // the seed's sz.z and sz.w (pre-integrated table)
+    float length_scale = 0.0f, length_bias = 0.0f;  // the published sz.z and sz.w (pre-integrated table)
 };
 
 // The segment a fragment integrates, in double before rounding. Distances are world units from the ray's origin.
@@ -30,7 +31,7 @@ struct VicpSegment {
     double t_in = 0.0, t_out = 0.0;      // distances of entry and exit
     double length = 0.0;                 // t_out - t_in (negative or 0: the ray misses the tetrahedron)
     int exit_face = -1;                  // the vertex whose opposite face is the exit, -1 for none (emulation only:
-                                         // the seed's wrong-exit diagnostic, gpu/vicp/vicp.cpp)
+                                         // the published wrong-exit diagnostic, gpu/vicp/vicp.cpp)
     // The ray runs parallel to a face and outside its plane (kParallelOutside), so it misses the cell whatever the
     // other faces say. Only --coverage exact reads it (emulation only): the rasterizer never covers such a pixel.
     bool misses = false;
@@ -41,7 +42,8 @@ struct VicpSegment {
 // others' (it is |m_i| |d| sin(angle), and |m_i| is the face's area over the cell's volume). 1e-12 lies far from
 // both: a ray within 1e-12 radians of a face's plane stays within 1e-12 of the mesh's size from it.
 inline constexpr double kParallelFace = 1e-12;
-// A ray parallel to face i keeps lambda_i = a_i all along. It lies outside the face's plane when a_i < -kParallelOutside
+// A ray parallel to face i keeps lambda_i = a_i all along. It lies outside the face's plane when a_i <
+// -kParallelOutside
 // * sum_j |a_j|: a ray in the plane has a_i at the rounding of the dot products that make the a's, ~1e-16 of their
 // size, while a pixel beside the plane is a pixel's width over the cell's size away (1e-4 and more).
 inline constexpr double kParallelOutside = 1e-12;
@@ -61,8 +63,8 @@ struct VicpDiagnostics {
     float last_back = 0.0f, last_front = 0.0f;  // the farthest-reaching segment composited so far (bookkeeping)
 };
 
-// One run of the fragment program's float part on one pixel (`shade` as HAVS's: havs_fragment.h). Returns false when the fragment is killed (the
-// framebuffer's alpha is above the threshold): nothing is written.
+// One run of the fragment program's float part on one pixel (`shade` as HAVS's: havs_fragment.h). Returns false when
+// the fragment is killed (the framebuffer's alpha is above the threshold): nothing is written.
 bool vicp_composite(const VicpFrameConstants& fc, const VicpSegment& segment, glm::vec4& framebuffer,
                     const SegmentShader& shade, VicpDiagnostics* diag);
 

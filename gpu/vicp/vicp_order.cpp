@@ -11,13 +11,14 @@
 
 namespace uvr::gpu {
 
-const char* cell_order_name(CellOrder o) { return o == CellOrder::centroid ? "centroid" : "mpvonc"; }
+const char* cell_order_name(CellOrder o)
+{
+    return choice_name(kCellOrders, o).data();
+}
 
 CellOrder parse_cell_order(const std::string& name)
 {
-    if (name == "centroid") return CellOrder::centroid;
-    if (name == "mpvonc") return CellOrder::mpvonc;
-    throw InputError("", "--order must be centroid or mpvonc, not '" + name + "'");
+    return parse_choice("--order", kCellOrders, name);
 }
 
 void centroid_cell_order(const std::vector<glm::vec3>& pts, const std::vector<Tet>& tets, const glm::vec3& eye,

@@ -1,4 +1,4 @@
-// VICP's cell visibility orders (issue 6): the tetrahedra front to back, computed on the CPU every frame. centroid:
+// VICP's cell visibility orders: the tetrahedra front to back, computed on the CPU every frame. centroid:
 // each cell's centroid depth, radix-sorted as HAVS's faces are (gpu/pipeline/face_sort.h); approximate. mpvonc: MPVO
 // with XMPVO's relations along the rays for non-convex meshes, topologically sorted; exact along every pixel centre's
 // ray unless the relations have a cycle, whose breaks are counted. Input: the mesh, its topology, the frame
@@ -19,10 +19,14 @@
 #include "reference/camera.h"
 #include "reference/mesh.h"
 #include "reference/topology.h"
+#include "reference/choice.h"
 
 namespace uvr::gpu {
 
 enum class CellOrder { centroid, mpvonc };
+inline constexpr Choices<CellOrder, 2> kCellOrders{
+    {{CellOrder::centroid, "centroid", "cells by the depth of their centroids"},
+     {CellOrder::mpvonc, "mpvonc", "MPVO with XMPVO's relations: exact along each pixel's ray but for cycles"}}};
 const char* cell_order_name(CellOrder o);             // "centroid", "mpvonc"
 CellOrder parse_cell_order(const std::string& name);  // throws InputError for anything else
 

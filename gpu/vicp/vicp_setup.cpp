@@ -8,13 +8,9 @@
 #include "gpu/pipeline/clip_position.h"
 #include "gpu/pipeline/pixel_rays.h"
 #include "reference/error.h"
+#include "reference/timing.h"
 
 namespace uvr::gpu {
-
-namespace {
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-}  // namespace
 
 VicpMesh::VicpMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
                    const VicpOptions& options)
@@ -78,21 +74,22 @@ VicpTet VicpMesh::constants(const VicpCell& cell, const std::vector<glm::dvec3>&
     return vicp_tet_constants(shape, exact, s, cell.boundary);
 }
 
-void VicpMesh::seed_records(const VicpCell& cell, const std::vector<glm::vec3>& points_f, VicpSeedVertex out[12]) const
+void VicpMesh::published_records(const VicpCell& cell, const std::vector<glm::vec3>& points_f,
+                                 VicpPublishedVertex out[12]) const
 {
     const Tet& t = cell.v;
     const glm::dvec3 p[4] = {points_d_[t[0]], points_d_[t[1]], points_d_[t[2]], points_d_[t[3]]};
     const double s[4] = {scalar_n_[t[0]], scalar_n_[t[1]], scalar_n_[t[2]], scalar_n_[t[3]]};
-    const glm::vec3 g(vicp_seed_gradient(p, s));
+    const glm::vec3 g(vicp_published_gradient(p, s));
     glm::vec3 plane[4];
     for (int v = 0; v < 4; ++v) {
         const int* o = kVicpCorner[v];  // the face opposite v
-        plane[v] = glm::vec3(vicp_seed_plane(p[v], p[o[0]], p[o[1]], p[o[2]]));
+        plane[v] = glm::vec3(vicp_published_plane(p[v], p[o[0]], p[o[1]], p[o[2]]));
     }
     for (int f = 0; f < 4; ++f)
         for (int j = 0; j < 3; ++j) {
             const int v = kVicpCorner[f][j];
-            out[3 * f + j] = VicpSeedVertex{points_f[t[std::size_t(v)]], float(s[v]), g, plane[v], float(j)};
+            out[3 * f + j] = VicpPublishedVertex{points_f[t[std::size_t(v)]], float(s[v]), g, plane[v], float(j)};
         }
 }
 
@@ -112,9 +109,9 @@ unsigned vicp_sent_faces(const VicpFrameSetup& fs, const VicpCell& cell, Triangl
     return faces;
 }
 
-VicpSeedView vicp_seed_view(const Camera& cam)
+VicpPublishedView vicp_published_view(const Camera& cam)
 {
-    return VicpSeedView{cam.orthographic ? 1 : 0, glm::vec3(camera_frame(cam).f)};
+    return VicpPublishedView{cam.orthographic ? 1 : 0, glm::vec3(camera_frame(cam).f)};
 }
 
 double vicp_resident_bytes_per_cell(const VicpMesh& vm)
@@ -126,7 +123,7 @@ double vicp_resident_bytes_per_cell(const VicpMesh& vm)
 double vicp_sent_bytes_per_cell(const VicpMesh& vm, uint64_t sent_faces)
 {
     if (vm.options().interpolation == InterpolationMode::gpu)
-        return double(kSeedBytesSentPerFace) * double(sent_faces) / double(vm.mesh().tets.size());
+        return double(kPublishedBytesSentPerFace) * double(sent_faces) / double(vm.mesh().tets.size());
     const double per_point = 3.0 * sizeof(double) + sizeof(glm::vec3);
     return (double(sizeof(VicpCell)) * double(vm.drawn_cells()) + per_point * double(vm.points_d().size())) /
            double(vm.mesh().tets.size());

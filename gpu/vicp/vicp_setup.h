@@ -1,10 +1,9 @@
-// VICP's CPU stage (seed 003, VICP-ProjectTet), shared by the emulated driver (gpu/vicp/vicp.cpp) and the GL driver
-// (gpu/vicp/gl_vicp.cpp), so that both draw the same cells in the same order: per mesh (VicpMesh) what the GPU keeps
-// resident, view independent, and each cell's orientation; per frame (setup_vicp_frame) the cell order, ProjectTet's
-// stream of oriented cells, the snapped points, the window coordinates, the frame's constants, the vertex buffer and
-// the clip stage's fans (gpu/vicp/vicp_clip.h).
-// Twins: none (CPU stage); gpu/vicp/gl_vicp.h uploads its outputs to the storage buffers shaders/vicp.vert reads.
-// Derivation: docs/vicp.md, "ProjectTet" and "What is sent".
+// VICP's CPU stage (Moreland's dissertation, VICP-ProjectTet), shared by the emulated driver (gpu/vicp/vicp.cpp) and
+// the GL driver (gpu/vicp/gl_vicp.cpp), so that both draw the same cells in the same order: per mesh (VicpMesh) what
+// the GPU keeps resident, view independent, and each cell's orientation; per frame (setup_vicp_frame) the cell order,
+// ProjectTet's stream of oriented cells, the snapped points, the window coordinates, the frame's constants, the vertex
+// buffer and the clip stage's fans (gpu/vicp/vicp_clip.h). Twins: none (CPU stage); gpu/vicp/gl_vicp.h uploads its
+// outputs to the storage buffers shaders/vicp.vert reads. Derivation: docs/vicp.md, "ProjectTet" and "What is sent".
 #pragma once
 
 #include <memory>
@@ -16,7 +15,7 @@
 #include "gpu/vicp/vicp_clip.h"
 #include "gpu/vicp/vicp_fragment.h"
 #include "gpu/vicp/vicp_order.h"
-#include "gpu/vicp/vicp_seed_vertex.h"
+#include "gpu/vicp/vicp_published_vertex.h"
 
 namespace uvr::gpu {
 
@@ -30,13 +29,13 @@ struct VicpCell {
 struct VicpOptions {
     CellOrder order = CellOrder::mpvonc;
     SegmentMode segment = SegmentMode::table;
-    float threshold = 1.0f;  // the opacity kill; VICP composites every cell by default (the seed has no kill)
+    float threshold = 1.0f;  // the opacity kill; VICP composites every cell by default (the publication has no kill)
     int table_size = 128;
     TexelFormat table_format = TexelFormat::f32;
     double table_max_length = 0.0;  // 0: the mesh's longest edge
     TextureFilter filter = TextureFilter::linear;
     Coverage coverage = Coverage::gpu;  // --coverage exact: a cell covers the pixels whose rays cross it (emulation)
-    // gpu: the seed's programs (docs/vicp.md "The seed's pipeline"; the cells a view cuts are drawn by the exact
+    // gpu: the published programs (docs/vicp.md "The published pipeline"; the cells a view cuts are drawn by the exact
     // variant); exact: the per-cell ray-plane variant.
     InterpolationMode interpolation = InterpolationMode::gpu;
 };
@@ -68,7 +67,8 @@ public:
     // ProjectTet's 12 records of an oriented cell (--interpolation gpu), face f's vertex j at 3 f + j in kVicpCorner's
     // order: positions from the frame's vertex buffer (relative to the eye), planes and gradient from the mesh's
     // points in double, rounded once.
-    void seed_records(const VicpCell& cell, const std::vector<glm::vec3>& points_f, VicpSeedVertex out[12]) const;
+    void published_records(const VicpCell& cell, const std::vector<glm::vec3>& points_f,
+                           VicpPublishedVertex out[12]) const;
 
 private:
     DrawnMesh drawn_mesh_;
@@ -102,8 +102,9 @@ struct VicpFrameSetup {
     std::vector<glm::dvec3> snapped;
     std::vector<uint32_t> order;   // every cell, front to back
     std::vector<VicpCell> stream;  // ProjectTet's output: the drawn cells, oriented, in order
-    // The cells of the stream the view cuts (by slot), drawn as fans instead of their four faces (gpu/vicp/vicp_clip.h),
-    // and the fans' triangles: four values each, its three vertices (indices into points_f) and its cell's slot.
+    // The cells of the stream the view cuts (by slot), drawn as fans instead of their four faces
+    // (gpu/vicp/vicp_clip.h), and the fans' triangles: four values each, its three vertices (indices into points_f) and
+    // its cell's slot.
     std::vector<VicpCut> cuts;
     std::vector<uint32_t> fans;
     CellOrderStats order_stats;
@@ -117,23 +118,24 @@ struct VicpFrameSetup {
 
 // The faces of a stream cell ProjectTet sends under --interpolation gpu (bit f: face f, kVicpCorner's order): with
 // covered, those llvmpipe's setup finds front-facing (its fixed-point area, the emulation's Facing) that cover a pixel,
-// the only ones that make fragments; with all, the four, as the seed does (the fragment program drops back faces on
-// gl_FrontFacing). All four too when the GPU would clip a vertex of the frame (fs.gpu_clipped), as HAVS does.
+// the only ones that make fragments; with all, the four, as the publication does (the fragment program drops back faces
+// on gl_FrontFacing). All four too when the GPU would clip a vertex of the frame (fs.gpu_clipped), as HAVS does.
 unsigned vicp_sent_faces(const VicpFrameSetup& fs, const VicpCell& cell, TriangleSubmission submission);
 
-// The view the seed's vertex program takes (--interpolation gpu): the camera's projection and viewing direction.
-VicpSeedView vicp_seed_view(const Camera& camera);
+// The view the published vertex program takes (--interpolation gpu): the camera's projection and viewing direction.
+VicpPublishedView vicp_published_view(const Camera& camera);
 
 // The frame's CPU stage. A view that cuts the mesh goes through the clip stage (gpu/vicp/vicp_clip.h).
 VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& camera, int width, int height);
 
 // What the GPU holds per cell: resident (positions in double and scalars, per point; amortized over cells) and sent
 // per frame: with --interpolation exact ProjectTet's stream, 20 bytes a cell, the snapped points in double, 24 bytes a
-// point, and the vertex buffer, 12 bytes a point; with gpu the seed's records, 132 bytes a sent face (`sent_faces`
+// point, and the vertex buffer, 12 bytes a point; with gpu the published records, 132 bytes a sent face (`sent_faces`
 // of the frame: vicp_sent_faces). The cells a view cuts (their fans, and with gpu the exact program's per-frame
 // buffers) are not counted.
-inline constexpr std::size_t kSeedBytesSentPerFace = 33 * sizeof(float);
-inline constexpr std::size_t kSeedBytesSentPerCell = 4 * kSeedBytesSentPerFace;  // seed 003's count, 528
+inline constexpr std::size_t kPublishedBytesSentPerFace = 33 * sizeof(float);
+inline constexpr std::size_t kPublishedBytesSentPerCell =
+    4 * kPublishedBytesSentPerFace;  // Moreland's dissertation's count, 528
 double vicp_sent_bytes_per_cell(const VicpMesh& vm, uint64_t sent_faces);
 double vicp_resident_bytes_per_cell(const VicpMesh& vm);
 

@@ -1,9 +1,8 @@
-// VICP's vertex stage (seed 003, VICP-VertexProg), emulated operation by operation in double: vicp_tet_constants (a
-// tetrahedron's snapped shape, its exact points and normalized scalars, its boundary mask -> VicpTet, the flat
-// constants every vertex of the cell passes: the barycentric coordinate functions and the scalar's gradient).
-// Twins: shaders/vicp_vertex.vert (VicpTet in shaders/vicp_tet.glsl; the draw's main is shaders/vicp.vert); harness
-// gpu/vicp/gl_vicp_harness.h.
-// Derivation: docs/vicp.md, "The flat constants".
+// VICP's vertex stage (Moreland's dissertation, VICP-VertexProg), emulated operation by operation in double:
+// vicp_tet_constants (a tetrahedron's snapped shape, its exact points and normalized scalars, its boundary mask ->
+// VicpTet, the flat constants every vertex of the cell passes: the barycentric coordinate functions and the scalar's
+// gradient). Twins: shaders/vicp_vertex.vert (VicpTet in shaders/vicp_tet.glsl; the draw's main is shaders/vicp.vert);
+// harness gpu/vicp/gl_vicp_harness.h. Derivation: docs/vicp.md, "The flat constants".
 #pragma once
 
 #include <array>

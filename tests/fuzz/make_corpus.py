@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Writes the hand-made seed corpus of the fuzz targets into tests/fuzz/corpus/<reader>/ (the files are kept in the
 repository; this script documents how they were made and can remake them). Every seed is a small, valid file (or a
-deliberate corner case) in the format of its target. Seeds derived from the shared data sets are not kept here:
-scripts/fuzz.sh makes them at run time from ../shared/data.
+deliberate corner case) in the format of its target. Seeds derived from the data sets of data/ are not kept here:
+scripts/fuzz.sh makes them at run time from data.
 """
 import gzip
 import os

@@ -1,4 +1,4 @@
-"""The Python module `uvr` (issue 27): arrays in and out, every algorithm, errors, the worked example of docs/python.md.
+"""The Python module `uvr`: arrays in and out, every algorithm, errors, the worked example of docs/python.md.
 
 Run by ctest ("python: the uvr module") with PYTHONPATH at the built module and UVR_BINARY at the built program, whose
 output is what the module's renders must equal bit for bit.
@@ -98,16 +98,16 @@ def test_options_reach_the_renderer(tmp_path):
     assert every_info["stats"]["send"] == "all" and every_info["stats"]["clip"]["uncovered"] == 0
     assert covered_info["stats"]["send"] == "covered" and covered_info["stats"]["clip"]["uncovered"] > 0
     assert same_bits(every, covered)
-    # interpolation reaches the ray caster and VICP (the seeds' pipelines by default, the exact variants by name).
+    # interpolation reaches the ray caster and VICP (the published pipelines by default, the exact variants by name).
     volume = uvr.Scene("builtin:torus-volume", **SMALL)
     ray_exact, ray_info = uvr.render(volume, "raycast", interpolation="exact", with_stats=True)
     assert ray_info["stats"]["interpolation"] == "exact" and "box" not in ray_info["stats"]
     assert same_bits(ray_exact, program_image(tmp_path, "builtin:torus-volume", "raycast", *SMALL_ARGS,
                                               "--interpolation", "exact"))
     assert uvr.render(volume, "raycast", with_stats=True)[1]["stats"]["interpolation"] == "gpu"
-    vicp_seed, vicp_info = uvr.render(scene, "vicp", with_stats=True)
+    vicp_published, vicp_info = uvr.render(scene, "vicp", with_stats=True)
     assert vicp_info["stats"]["interpolation"] == "gpu" and "wrong_exits" in vicp_info["stats"]
-    assert same_bits(vicp_seed, program_image(tmp_path, "builtin:torus-small", "vicp", *SMALL_ARGS))
+    assert same_bits(vicp_published, program_image(tmp_path, "builtin:torus-small", "vicp", *SMALL_ARGS))
     vicp_exact, vicp_exact_info = uvr.render(scene, "vicp", interpolation="exact", with_stats=True)
     assert vicp_exact_info["stats"]["interpolation"] == "exact" and "wrong_exits" not in vicp_exact_info["stats"]
     assert same_bits(vicp_exact, program_image(tmp_path, "builtin:torus-small", "vicp", *SMALL_ARGS,
@@ -268,8 +268,12 @@ def test_bad_input_raises_uvr_error_with_uvrs_message(tmp_path):
         (lambda: uvr.mesh(points, tets), "no scalar field given"),
         (lambda: uvr.volume(np.zeros((4, 4))), "Z x Y x X"),
         (lambda: uvr.Scene("builtin:torus-small", size=(0, 10)), "size"),
-        (lambda: uvr.render(scene, "havs", k=0), "'k' must be a whole number of at least 1, or 'all'"),
-        (lambda: uvr.render(scene, "havs", k="every"), "'k' must be a whole number of at least 1, or 'all'"),
+        (lambda: uvr.render(scene, "havs", k=0), "k must be a whole number of at least 1, or all, not '0'"),
+        (lambda: uvr.render(scene, "havs", k="every"), "k must be a whole number of at least 1, or all, not 'every'"),
+        (lambda: uvr.render(scene, "havs", k=True), "option 'k' has the wrong type"),
+        (lambda: uvr.render(scene, "havs", preintegrate=1), "option 'preintegrate' has the wrong type"),
+        (lambda: uvr.render(scene, "havs", entries="seed"), "entries seed is now spelled entries paper"),
+        (lambda: uvr.render(scene, "havs", threshold=1.5), "threshold must be a number in [0, 1], not '1.5'"),
         (lambda: uvr.render(scene, "havs", ties="facing"), "ties facing needs k all"),
         (lambda: uvr.render(scene, "havs", k="all", ties="first"), "ties must be arrival or facing"),
         (lambda: uvr.render(scene, "havs", backend="gl", send="some"), "send must be covered or all"),
@@ -289,6 +293,36 @@ def test_bad_input_raises_uvr_error_with_uvrs_message(tmp_path):
 
 def python_blocks(path):
     return re.findall(r"```python\n(.*?)```", open(path).read(), flags=re.S)
+
+
+def help_options(command):
+    text = subprocess.run([PROGRAM, command, "--help"], capture_output=True, text=True, check=True).stdout
+    return set(re.findall(r"^\s+(--[a-z][a-z0-9-]*)", text, flags=re.M))
+
+
+def test_every_algorithm_option_of_the_program_is_a_keyword_and_back():
+    # One table builds both: render's options less the input, scene and command ones are exactly the keywords' options.
+    keywords = uvr.options()
+    table = {o["option"] for o in keywords.values()}
+    scene = help_options("info") | {"--tf", "--camera", "--view", "--size", "--json", "--help"}
+    own = {"render": {"--algo", "--out", "--diagnostics"}, "compare": {"--algos", "--report", "--image", "--label"},
+           "budget": {"--algo", "--report"}}
+    for command, options in own.items():
+        assert help_options(command) - scene - options == table, command
+    # The keyword is the option with '_' for '-', but for the cache switch, which Python turns around.
+    for key, o in keywords.items():
+        expected = "cache" if o["option"] == "--no-cache" else o["option"][2:].replace("-", "_")
+        assert key == expected
+    assert keywords["cache"]["inverted"] and keywords["cache"]["switch"]
+
+
+def test_a_renamed_value_works_under_its_new_name_and_the_old_one_is_refused(tmp_path):
+    scene = uvr.Scene("builtin:torus-small", **SMALL)
+    paper = uvr.render(scene, "havs", entries="paper")
+    assert same_bits(paper, program_image(tmp_path, "builtin:torus-small", "havs", *SMALL_ARGS, "--entries", "paper"))
+    assert not same_bits(paper, uvr.render(scene, "havs", entries="marked"))
+    with pytest.raises(uvr.Error, match="entries seed is now spelled entries paper"):
+        uvr.render(scene, "havs", entries="seed")
 
 
 def test_the_worked_example_of_docs_python_md_runs(tmp_path):

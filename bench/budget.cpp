@@ -1,0 +1,385 @@
+// `uvr budget`'s computation (docs/spec.md §7, docs/budget.md): the baseline with every switch exact, one run per
+// factor, the total, each measured against the reference; the command is bench/cmd_budget.cpp.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/algorithms.h"
+#include "bench/budget.h"
+#include "bench/progress.h"
+#include "bench/report.h"
+#include "reference/error.h"
+#include "reference/error_measures.h"
+#include "reference/io_util.h"
+
+namespace uvr::cli {
+
+namespace {
+
+// The switches a run sets, as the JSON records them (the test of "only that switch differs" reads them), and the key
+// by which a run already rendered is found again (BudgetRunCache): every option a budget's runs differ by.
+nlohmann::json switches_json(const std::string& algo, const AlgoOptions& o)
+{
+    nlohmann::json j = {{"segment", o.segment},
+                        {"table_size", o.table_size},
+                        {"table_format", o.table_format},
+                        {"interpolation", o.interpolation},
+                        {"coverage", o.coverage},
+                        {"threshold", o.threshold},
+                        {"backend", o.backend}};
+    if (algo == "havs") {
+        j["k"] = k_json(o.k);
+        j["ties"] = o.ties;
+    }
+    if (algo == "vicp") j["order"] = o.order;
+    if (algo == "raycast") {
+        j["step"] = o.step;
+        j["preintegrate"] = o.preintegrate;
+        j["volume_format"] = o.volume_format;
+        j.erase("coverage");  // the ray caster has no exact-coverage variant (docs/budget.md)
+    }
+    return j;
+}
+
+// SPEC §4's RMSE and largest error over the pixels whose `mask` is 0 (all four channels), and their count.
+nlohmann::json measures_outside(const Image& image, const Image& ref, const std::vector<uint32_t>& mask)
+{
+    double sum = 0.0, largest = 0.0;
+    std::size_t pixels = 0;
+    for (std::size_t p = 0; p < mask.size(); ++p) {
+        if (mask[p]) continue;
+        ++pixels;
+        for (int c = 0; c < 4; ++c) {
+            const double d = double(image.rgba[4 * p + std::size_t(c)]) - double(ref.rgba[4 * p + std::size_t(c)]);
+            sum += d * d;
+            largest = std::max(largest, std::abs(d));
+        }
+    }
+    return {{"rmse", pixels ? std::sqrt(sum / (4.0 * double(pixels))) : 0.0}, {"max_abs", largest}, {"pixels", pixels}};
+}
+
+// A per-pixel count as an image (.npy): the count in red, alpha 1, as `uvr render --diagnostics` writes them.
+Image count_image(const std::vector<uint32_t>& counts, int width, int height)
+{
+    Image im(width, height);
+    for (std::size_t p = 0; p < counts.size(); ++p) {
+        im.rgba[4 * p] = float(counts[p]);
+        im.rgba[4 * p + 3] = 1.0f;
+    }
+    return im;
+}
+
+// One run of a budget: its name (baseline, a factor's, total) and options.
+struct Run {
+    std::string name;
+    AlgoOptions o;
+};
+
+// A budget already written to `dir` for these runs (uvr sweep --budget resuming): its budget.json when it parses, is
+// for this algorithm and image size, and every run in it has the switches of `runs` and its image on disk; its runs
+// then join `cache`, so that later budgets copy them as they would have.
+std::optional<nlohmann::json> finished_budget(const std::string& dir, const std::string& algo, const Scene& s,
+                                              const std::vector<Run>& runs, BudgetRunCache& cache)
+{
+    nlohmann::json b;
+    try {
+        if (!std::filesystem::exists(dir + "/budget.json")) return std::nullopt;
+        b = nlohmann::json::parse(read_file_bytes(dir + "/budget.json"));
+        if (b.value("algo", "") != algo || b.value("width", -1) != s.width || b.value("height", -1) != s.height)
+            return std::nullopt;
+        for (const Run& r : runs) {
+            const nlohmann::json& j =
+                r.name == "baseline" || r.name == "total" ? b.at(r.name) : b.at("factors").at(r.name);
+            if (j.at("switches") != switches_json(algo, r.o) ||
+                !std::filesystem::exists(dir + "/" + j.at("image").get<std::string>()))
+                return std::nullopt;
+        }
+    } catch (const std::exception&) {
+        return std::nullopt;  // a damaged or partial report is made again
+    }
+    for (const Run& r : runs) {
+        const nlohmann::json& j = r.name == "baseline" || r.name == "total" ? b[r.name] : b["factors"][r.name];
+        cache.runs.try_emplace(j["switches"].dump(), dir + "/runs/" + r.name, j);
+    }
+    return b;
+}
+
+}  // namespace
+
+std::vector<BudgetFactor> budget_factors(const std::string& algo)
+{
+    // Each factor's switch, applied to the baseline's options from the user's; the three every algorithm has.
+    const auto table = [](AlgoOptions& run, const AlgoOptions& user) {
+        run.segment = user.segment;
+        run.table_size = user.table_size;
+        run.table_format = user.table_format;
+    };
+    const auto interpolation = [](AlgoOptions& run, const AlgoOptions& user) {
+        run.interpolation = user.interpolation;
+    };
+    const auto termination = [](AlgoOptions& run, const AlgoOptions& user) { run.threshold = user.threshold; };
+    std::vector<BudgetFactor> f;
+    if (algo == "raycast") {
+        f.push_back({"step",
+                     "the step: the ray samples the volume every step and takes the scalar as linear between "
+                     "two samples",
+                     [](AlgoOptions& run, const AlgoOptions& user) { run.step = user.step; }});
+        f.push_back({"table",
+                     "the classification: post-classified samples (each step's colour from the "
+                     "transfer function at one sample) or the pre-integrated table, instead of each segment "
+                     "between two samples integrated exactly",
+                     [table](AlgoOptions& run, const AlgoOptions& user) {
+                         table(run, user);
+                         run.preintegrate = user.preintegrate;
+                     }});
+        f.push_back({"texture",
+                     "the volume's texture: texels kept in the data's own format and filtered as the GPU "
+                     "filters that format (8-bit data with 8-bit weights on llvmpipe) instead of as float",
+                     [](AlgoOptions& run, const AlgoOptions& user) { run.volume_format = user.volume_format; }});
+        f.push_back({"interpolation",
+                     "the published passes: each ray's entry and exit from the box's faces as the "
+                     "rasterizer interpolates their texture coordinates, instead of the ray against "
+                     "the box in double",
+                     interpolation});
+        f.push_back(
+            {"termination", "early termination: the march stops once the opacity passes the threshold", termination});
+        return f;
+    }
+    if (algo == "havs")
+        f.push_back({"sort",
+                     "the k-buffer of k entries: fragments the object-space face sort leaves more than k - 1 "
+                     "places out of order are composited out of order, and fragments at one distance in the "
+                     "k-buffer's order (at a seam whose two faces carry different scalars, not the ray's)",
+                     [](AlgoOptions& run, const AlgoOptions& user) {
+                         run.k = user.k;
+                         run.ties = user.ties;
+                     }});
+    if (algo == "vicp")
+        f.push_back({"sort",
+                     "the cell order: cells composited out of visibility order (MPVONC's broken cycles, or "
+                     "the centroid order's mistakes)",
+                     [](AlgoOptions& run, const AlgoOptions& user) { run.order = user.order; }});
+    f.push_back({"table",
+                 "the pre-integrated table: the segment's colour looked up, filtered, from a table of finite "
+                 "size instead of integrated exactly",
+                 table});
+    f.push_back({"interpolation",
+                 "the rasterizer's interpolation: the fragment's values from the published interpolated "
+                 "varyings (float, perspective-correct) instead of computed in double from the pixel's "
+                 "ray",
+                 interpolation});
+    f.push_back({"coverage",
+                 "the rasterizer's coverage: pixels chosen by the snapped (fixed-point) triangle instead of "
+                 "by the ray through the pixel centre crossing the primitive",
+                 [](AlgoOptions& run, const AlgoOptions& user) { run.coverage = user.coverage; }});
+    f.push_back({"termination", "early termination: a pixel stops compositing once its opacity passes the threshold",
+                 termination});
+    return f;
+}
+
+AlgoOptions budget_baseline(const std::string& algo, const AlgoOptions& user)
+{
+    AlgoOptions b = user;
+    b.backend = "emu";  // exact segments and coverage are the emulation's only
+    b.segment = "exact";
+    b.interpolation = "exact";
+    b.coverage = "exact";
+    b.threshold = 1.0;
+    if (algo == "havs") {  // the exact sort: every fragment held, at one distance the cell the ray leaves first
+        b.k = gpu::kEveryFragment;
+        b.ties = "facing";
+    }
+    if (algo == "vicp") b.order = "mpvonc";
+    if (algo == "raycast") {
+        b.coverage = user.coverage;  // no exact variant
+        b.preintegrate = true;       // each segment between two samples integrated exactly
+        b.volume_format = "f32";     // texels and their filtering in float
+        b.step = user.step / kBudgetStepRefinement;
+    }
+    return b;
+}
+
+// The user's options with each per-algorithm default filled in, so that the JSON says what ran.
+static AlgoOptions budget_user_options(const Scene& s, const std::string& algo, AlgoOptions user)
+{
+    if (user.interpolation.empty()) user.interpolation = "gpu";
+    if (user.threshold < 0.0) user.threshold = algo == "havs" ? 0.99 : algo == "raycast" ? 0.95 : 1.0;
+    if (algo == "raycast" && user.step <= 0.0) user.step = gpu::default_raycast_step(s.volume());
+    return user;
+}
+
+namespace {
+
+// Every run's options, checked before anything is written: the baseline, one run per factor, the total. A run that GL
+// can draw uses it when asked (the bits are the emulation's): the ones with the table and the rasterizer's coverage.
+std::vector<Run> budget_runs(const std::string& algo, const AlgoOptions& user, const AlgoOptions& base,
+                             const std::vector<BudgetFactor>& factors)
+{
+    std::vector<Run> runs{{"baseline", base}};
+    for (const BudgetFactor& f : factors) {
+        AlgoOptions o = base;
+        f.apply(o, user);
+        runs.push_back({f.name, o});
+    }
+    runs.push_back({"total", user});
+    for (Run& r : runs) {
+        if (user.backend == "gl" && r.o.segment != "exact" && r.o.coverage != "exact") r.o.backend = "gl";
+        // VICP's published program has no varyings where the rasterizer makes no fragment: its interpolation factor
+        // keeps the rasterizer's coverage (docs/budget.md, "Decisions").
+        if (algo == "vicp" && r.name == "interpolation" && r.o.interpolation == "gpu") r.o.coverage = "gpu";
+        find_algorithm(algo).check_options(r.o);
+    }
+    return runs;
+}
+
+// A run whose switches an earlier run had (a factor whose switch already has the baseline's value: VICP's MPVONC, a
+// threshold of 1; or a run of an earlier budget in the cache): its files copied under this run's name, its JSON
+// pointing at them.
+nlohmann::json copied_run(const std::string& dir, const Run& r, const std::string& from_base, nlohmann::json j)
+{
+    for (const char* suffix : {".npy", ".png", "-error.png", "-wrong_exits.npy"}) {
+        const std::string from = from_base + suffix, to = dir + "/runs/" + r.name + suffix;
+        if (std::filesystem::exists(from) && from != to)
+            std::filesystem::copy_file(from, to, std::filesystem::copy_options::overwrite_existing);
+    }
+    j["image"] = "runs/" + r.name + ".npy";
+    j["error_map"] = "runs/" + r.name + "-error.png";
+    if (j.contains("without_wrong_exits")) j["without_wrong_exits"]["mask"] = "runs/" + r.name + "-wrong_exits.npy";
+    j["same_as"] = from_base.substr(from_base.find_last_of('/') + 1);
+    j["ms"] = 0.0;
+    return j;
+}
+
+// A run rendered: its image, PNG and error map under DIR/runs/, its measures against the reference.
+nlohmann::json rendered_run(const Scene& s, const std::string& algo, const std::string& dir, const Run& r,
+                            const Image& ref)
+{
+    const AlgoResult res = run_algorithm(s, algo, r.o);
+    write_image(dir + "/runs/" + r.name + ".npy", res.image);
+    write_image(dir + "/runs/" + r.name + ".png", res.image);
+    write_png_rgb8(dir + "/runs/" + r.name + "-error.png", s.width, s.height,
+                   error_heat_map(pixel_errors(res.image, ref)));
+    nlohmann::json j = measures_json(measure_errors(res.image, ref));
+    j["switches"] = switches_json(algo, r.o);
+    j["image"] = "runs/" + r.name + ".npy";
+    j["error_map"] = "runs/" + r.name + "-error.png";
+    j["ms"] = res.ms;
+    j["stats"] = res.stats;
+    // VICP's published program: its interpolation's error apart from its wrong exits (docs/vicp.md, "The published
+    // pipeline": the exits picked wrongly beside face edges, and the perspective), with the mask kept.
+    if (!res.wrong_exits.empty()) {
+        const std::string mask = "runs/" + r.name + "-wrong_exits.npy";
+        write_image(dir + "/" + mask, count_image(res.wrong_exits, s.width, s.height));
+        j["without_wrong_exits"] = measures_outside(res.image, ref, res.wrong_exits);
+        j["without_wrong_exits"]["mask"] = mask;
+    }
+    return j;
+}
+
+// The baseline's check, budget.json, the chart and the page.
+void finish_budget(const std::string& algo, const std::string& dir, nlohmann::json& out)
+{
+    const nlohmann::json& b = out["baseline"];
+    if (algo == "raycast") {
+        // The baseline keeps a share of the step's error (budget.h): it must stay well below the step factor's.
+        out["baseline_ok"] =
+            b["rmse"].get<double>() <= kBudgetStepBaselineShare * out["factors"]["step"]["rmse"].get<double>();
+        out["not_split"] = {{"coverage", "the published box passes have no exact-coverage variant (docs/budget.md)"}};
+    } else {
+        out["baseline_ok"] = b["max_abs"].get<double>() <= kBudgetBaselineMax;
+    }
+    write_file_atomically(dir + "/budget.json", out.dump(1) + "\n");
+    // The chart by matplotlib (Debian's python3-matplotlib); without it the numbers still stand.
+    const std::string plot = std::string("/usr/bin/python3 '") + UVR_SOURCE_DIR + "/bench/plots/budget_plots.py' '" +
+                             dir + "' >/dev/null 2>&1";
+    const bool plotted = std::system(plot.c_str()) == 0;
+    if (!plotted) std::fprintf(stderr, "uvr: warning: the budget chart not drawn (needs python3-matplotlib)\n");
+    write_budget_page(dir, out, plotted);
+}
+
+}  // namespace
+
+nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOptions& options, const std::string& dir,
+                          const std::string& mesh_name, BudgetRunCache* cache, bool resume)
+{
+    if (algo != "havs" && algo != "vicp" && algo != "raycast")
+        throw InputError("", "--algo must be havs, vicp or raycast");
+    check_algorithm_scene(s, algo);
+    const AlgoOptions user = budget_user_options(s, algo, options);
+    const AlgoOptions base = budget_baseline(algo, user);
+    const std::vector<BudgetFactor> factors = budget_factors(algo);
+    const std::vector<Run> runs = budget_runs(algo, user, base, factors);
+    BudgetRunCache local;
+    BudgetRunCache& rendered = cache ? *cache : local;
+    if (resume) {
+        if (const std::optional<nlohmann::json> done = finished_budget(dir, algo, s, runs, rendered)) return *done;
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(dir + "/runs", ec);
+    if (ec) throw InputError(dir, "cannot create the report directory: " + ec.message());
+
+    ProgressBar progress("budget");
+    const AlgoResult ref = run_algorithm(s, "reference", user);
+    write_image(dir + "/runs/reference.npy", ref.image);
+    write_image(dir + "/runs/reference.png", ref.image);
+    nlohmann::json out = {{"algo", algo},
+                          {"mesh", mesh_name},
+                          {"field", s.field_name()},
+                          {"width", s.width},
+                          {"height", s.height},
+                          {"reference", {{"image", "runs/reference.npy"}, {"cached", ref.cached}}},
+                          {"factors", nlohmann::json::object()},
+                          {"factor_order", nlohmann::json::array()}};  // the order the page and the chart show
+    for (const BudgetFactor& f : factors) out["factor_order"].push_back(f.name);
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+        progress.update(double(i) / double(runs.size()));
+        const Run& r = runs[i];
+        const std::string key = switches_json(algo, r.o).dump();
+        nlohmann::json j;
+        if (const auto same = rendered.runs.find(key); same != rendered.runs.end()) {
+            j = copied_run(dir, r, same->second.first, same->second.second);
+        } else {
+            j = rendered_run(s, algo, dir, r, ref.image);
+            rendered.runs[key] = {dir + "/runs/" + r.name, j};
+        }
+        if (r.name == "baseline" || r.name == "total") {
+            out[r.name] = std::move(j);
+            continue;
+        }
+        for (const BudgetFactor& f : factors)
+            if (f.name == r.name) j["what"] = f.what;
+        if (algo == "vicp" && r.name == "interpolation" && r.o.coverage != base.coverage)
+            j["with"] = nlohmann::json::array({"coverage"});
+        out["factors"][r.name] = std::move(j);
+    }
+    progress.finish();
+    finish_budget(algo, dir, out);
+    return out;
+}
+
+nlohmann::json budget_summary(const nlohmann::json& b, const std::string& page)
+{
+    nlohmann::json row = {{"page", page},
+                          {"baseline_ok", b["baseline_ok"]},
+                          {"baseline", b["baseline"]["rmse"]},
+                          {"total", b["total"]["rmse"]},
+                          {"factors", nlohmann::json::object()}};
+    std::string dominant;
+    for (const auto& n : b["factor_order"]) {
+        const std::string name = n.get<std::string>();
+        const double e = b["factors"][name]["rmse"].get<double>();
+        row["factors"][name] = e;
+        if (dominant.empty() || e > row["factors"][dominant].get<double>()) dominant = name;
+    }
+    row["dominant"] = dominant;
+    return row;
+}
+
+}  // namespace uvr::cli

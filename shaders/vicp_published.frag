@@ -1,0 +1,35 @@
+// VICP's published program draw (--interpolation gpu, gpu/vicp/gl_vicp.cpp): the fragment program's main.
+// preintegration_table.frag, vicp_tet.glsl, vicp_fragment.frag (the compositing), vicp_published.glsl and
+// vicp_published_fragment.frag (the exit) are compiled in front of this file; vicp_published.vert is its vertex side.
+// The twin of VicpRenderer::composite_published (gpu/vicp/vicp.cpp). Back faces leave the attachments as read, as in
+// vicp.frag (on gl_FrontFacing, llvmpipe's fixed-point facing).
+
+smooth in vec3 vicp_published_distance;
+smooth in vec3 vicp_published_scalar;
+smooth in float vicp_published_s;
+smooth in vec3 vicp_published_entry;
+
+layout(location = 0) inout vec4 vicp_color;
+layout(location = 1) inout vec4 vicp_diagnostics;  // VicpDiagnostics as floats (vicp_composite)
+
+vec4 vicp_shade(float u_front, float u_back, float t_z, float seg_length)
+{
+    return preintegration_lookup(u_front, u_back, t_z);
+}
+
+void main()
+{
+    VicpPublishedExit e = vicp_published_exit(vicp_published_distance, vicp_published_scalar, vicp_published_s);
+    VicpSegment seg;
+    seg.s_front = double(e.s_front);
+    seg.s_back = double(e.s_back);
+    precise double t_in = double(vicp_published_entry_distance(vicp_published_entry));
+    precise double t_out = t_in + double(e.length);
+    seg.t_in = t_in;
+    seg.t_out = t_out;
+    seg.length = double(e.length);
+    vec4 fb = vicp_color, diag = vicp_diagnostics;
+    if (gl_FrontFacing) vicp_composite(seg, fb, diag);  // killed: fb and diag are as read
+    vicp_color = fb;
+    vicp_diagnostics = diag;
+}
