@@ -106,7 +106,7 @@ uint64_t check_tile(StreamGen& g, bool odd, bool paper_entries, int extra)
             glm::vec4 fb_program(0.0f);
             KBufferDiagnostics d_program;
             if (n > 0) program(fc, streams[p], k, fb_program, d_program);
-            INFO("pixel " << p << ", " << n << " fragments, k " << k << (paper_entries ? ", seed entries" : "")
+            INFO("pixel " << p << ", " << n << " fragments, k " << k << (paper_entries ? ", the paper's entries" : "")
                           << ": alpha " << fb_program.a << " by the program, " << fb[p].a << " sorted");
             REQUIRE(same_bits(fb_program, fb[p]));
             REQUIRE(d_program.fragments == diag[p].fragments);

@@ -133,7 +133,7 @@ TEST_CASE("the GL VICP frame equals the emulated frame bit for bit")
 }
 
 TEST_CASE(
-    "the GL VICP frame under the publication is the same whether ProjectTet sends every face or only those that make "
+    "the GL VICP frame with the published program is the same whether ProjectTet sends every face or only those that make "
     "fragments")
 {
     // --send all is the published stream (four faces a cell, back faces dropped by the fragment program); covered, the

@@ -137,7 +137,7 @@ TEST_CASE("VICP with the published interpolation draws the cells a view cuts as 
 {
     // A one-cube box (box_mesh: its cells all meet the cube's centre) seen from its centre with a wide angle: the near
     // plane or the image's sides cut every cell, so the published frame must be the exact variant's, bit for bit
-    // (docs/vicp.md, "The cells a view cuts, under the publication"); seen from outside, no cell is cut and the
+    // (docs/vicp.md, "The cells a view cuts, with the published program"); seen from outside, no cell is cut and the
     // published interpolation shows.
     const Scene s =
         test::make_scene(test::box_mesh(1, [](const glm::dvec3& p) { return (p.x + 2.0 * p.y + 3.0 * p.z) / 6.0; }), 0);

@@ -87,7 +87,7 @@ void published_records(Rng& r, const VicpPublishedView& view, std::vector<VicpPu
 
 }  // namespace
 
-TEST_CASE("VICP's published program vertex program in GLSL computes the emulation's bits for 1,049,088 vertices")
+TEST_CASE("VICP's published vertex program in GLSL computes the emulation's bits for 1,049,088 vertices")
 {
     GlVicpHarness& h = *gl(GlPlatform::osmesa).harness;
     Rng r(120);

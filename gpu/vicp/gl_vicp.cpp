@@ -290,8 +290,8 @@ VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
     const bool published = mesh_.options().interpolation == InterpolationMode::gpu;
 
     auto t0 = Clock::now();
-    // The exact program's per-frame buffers (every cell without the publication, the cut cells with it), read at any
-    // index by every draw.
+    // The exact program's per-frame buffers (every cell with --interpolation exact, the cut cells alone with the
+    // published program), read at any index by every draw.
     if (!published || !fs.cuts.empty()) {
         if (double(fs.points_f.size()) * sizeof(glm::vec3) > double(max_block_bytes(ctx_)))
             throw InputError(mesh_.mesh().source, "the frame's " + std::to_string(fs.points_f.size()) +
@@ -333,8 +333,8 @@ VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
         draw_exact(fs, 0, fs.stream.size(), st);
     } else {
         // Runs of whole cells through the published program, the cut cells between them in their places through the
-        // exact program (docs/vicp.md, "The cells a view cuts, under the publication"); GL keeps primitive order across
-        // draws.
+        // exact program (docs/vicp.md, "The cells a view cuts, with the published program"); GL keeps primitive order
+        // across draws.
         std::size_t slot = 0;
         for (std::size_t i = 0; i < fs.cuts.size();) {
             const std::size_t first = fs.cuts[i].slot;

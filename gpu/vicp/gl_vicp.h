@@ -40,7 +40,7 @@ public:
     const VicpMesh& cpu_stage() const { return mesh_; }
 
     // --send (--interpolation gpu): the faces that make fragments (covered, the default) or all four of every cell, as
-    // the publication sends them (vicp_sent_faces). The frame's bits are the same.
+    // ProjectTet as published sends them (vicp_sent_faces). The frame's bits are the same.
     void set_submission(TriangleSubmission s) { submission_ = s; }
 
     // Cells a published draw sends (--interpolation gpu): 16,384 cells are 8.6 MB of records (528 bytes a cell), which

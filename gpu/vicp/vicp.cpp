@@ -287,7 +287,7 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
             if (exact_coverage) composite_exact_coverage(fc, fs, slot, cut != kWholeCell, tile, shade, width, fb, diag);
             // The cells the view cuts are drawn by the exact variant in both modes: the published vertex program
             // cannot give a clipped face's new vertices or a near section their distances (docs/vicp.md, "The cells
-            // a view cuts, under the publication").
+            // a view cuts, with the published program").
             else if (published && cut == kWholeCell)
                 composite_published(fc, fs, slot, published_view, setup, tile, arith, shade, width, fb, diag,
                                     wrong_exits, length_error);

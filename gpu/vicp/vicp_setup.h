@@ -29,7 +29,7 @@ struct VicpCell {
 struct VicpOptions {
     CellOrder order = CellOrder::mpvonc;
     SegmentMode segment = SegmentMode::table;
-    float threshold = 1.0f;  // the opacity kill; VICP composites every cell by default (the publication has no kill)
+    float threshold = 1.0f;  // the opacity kill; VICP composites every cell by default (the published program has no kill)
     int table_size = 128;
     TexelFormat table_format = TexelFormat::f32;
     double table_max_length = 0.0;  // 0: the mesh's longest edge
@@ -118,8 +118,9 @@ struct VicpFrameSetup {
 
 // The faces of a stream cell ProjectTet sends under --interpolation gpu (bit f: face f, kVicpCorner's order): with
 // covered, those llvmpipe's setup finds front-facing (its fixed-point area, the emulation's Facing) that cover a pixel,
-// the only ones that make fragments; with all, the four, as the publication does (the fragment program drops back faces
-// on gl_FrontFacing). All four too when the GPU would clip a vertex of the frame (fs.gpu_clipped), as HAVS does.
+// the only ones that make fragments; with all, the four, as the published ProjectTet does (the fragment program drops
+// back faces on gl_FrontFacing). All four too when the GPU would clip a vertex of the frame (fs.gpu_clipped), as HAVS
+// does.
 unsigned vicp_sent_faces(const VicpFrameSetup& fs, const VicpCell& cell, TriangleSubmission submission);
 
 // The view the published vertex program takes (--interpolation gpu): the camera's projection and viewing direction.
