@@ -119,10 +119,10 @@ AlgoOption value(const std::string& name, const std::string& help, const std::st
     return o;
 }
 
-std::vector<AlgoOption> make_table()
+// Where every algorithm runs: the backend and the GL platform.
+void add_backend_rows(std::vector<AlgoOption>& t)
 {
     using namespace gpu;
-    std::vector<AlgoOption> t;
     t.push_back(value("backend",
                       "emu | gl | arb (HAVS only: the paper's own ARB programs under an OSMesa compatibility "
                       "context)",
@@ -130,6 +130,13 @@ std::vector<AlgoOption> make_table()
                       // Which backends an algorithm has is its registry entry's to say (bench/algorithms.cpp).
                       [](AlgoOptions& a, const std::string& v) { a.backend = v; }));
     t.push_back(choice("gl", "With --backend gl", kGlPlatforms, &AlgoOptions::gl));
+}
+
+// The mesh renderers' choices (HAVS, VICP): the k-buffer, ties, segments, gaps, cell order, coverage,
+// interpolation (the ray caster's too) and k-buffer entries.
+void add_mesh_rows(std::vector<AlgoOption>& t)
+{
+    using namespace gpu;
     AlgoOption k = value("k",
                          "HAVS: k-buffer entries, or all (every fragment of a pixel held until the flush: the "
                          "exact sort; emulation only)",
@@ -147,6 +154,12 @@ std::vector<AlgoOption> make_table()
     t.back().default_text = "gpu";
     t.push_back(
         choice("entries", "HAVS's k-buffer entries", kEntryEncodings, &AlgoOptions::entries, kEntryEncodingsRenamed));
+}
+
+// What the GL backends send: ARB draw calls and barriers, the triangles sent.
+void add_submission_rows(std::vector<AlgoOption>& t)
+{
+    using namespace gpu;
     t.push_back(value("arb-draw", "With --backend arb: triangles per draw call (0: 131072)", "0",
                       [](AlgoOptions& a, const std::string& v) {
                           a.arb_draw = std::size_t(parse_whole("arb-draw", v, 0, 1LL << 40, "a whole number >= 0"));
@@ -155,6 +168,12 @@ std::vector<AlgoOption> make_table()
         flag("arb-barrier", "With --backend arb: a texture barrier after every draw call", &AlgoOptions::arb_barrier));
     t.push_back(choice("send", "HAVS with --backend gl or arb, VICP on gl: the triangles sent", kTriangleSubmissions,
                        &AlgoOptions::send));
+}
+
+// The compositing: the early-termination opacity and the pre-integration table.
+void add_integration_rows(std::vector<AlgoOption>& t)
+{
+    using namespace gpu;
     t.push_back(value("threshold", "Early-termination opacity (HAVS 0.99, VICP 1, ray caster 0.95; 1 switches it off)",
                       "", [](AlgoOptions& a, const std::string& v) {
                           const double x = parse_number("threshold", v, "a number in [0, 1]");
@@ -168,10 +187,21 @@ std::vector<AlgoOption> make_table()
         }));
     t.push_back(
         choice("table-format", "The pre-integration table's texels", kTexelFormats, &AlgoOptions::table_format));
+}
+
+// The reference's image cache.
+void add_reference_rows(std::vector<AlgoOption>& t)
+{
     AlgoOption cache = flag("no-cache", "Do not read or write the reference image cache", &AlgoOptions::no_cache);
     cache.python = "cache";
     cache.python_inverted = true;
     t.push_back(cache);
+}
+
+// The ray caster: step, pre-integration, light, volume texture.
+void add_raycast_rows(std::vector<AlgoOption>& t)
+{
+    using namespace gpu;
     AlgoOption step =
         value("step", "Ray caster: step in world units (default: half the smallest spacing)", "",
               [](AlgoOptions& a, const std::string& v) {
@@ -201,6 +231,18 @@ std::vector<AlgoOption> make_table()
                           a.light = v;
                       }));
     t.push_back(choice("volume-format", "Ray caster: the volume texture", kVolumeFormats, &AlgoOptions::volume_format));
+}
+
+// Every row, in the order help texts list them.
+std::vector<AlgoOption> make_table()
+{
+    std::vector<AlgoOption> t;
+    add_backend_rows(t);
+    add_mesh_rows(t);
+    add_submission_rows(t);
+    add_integration_rows(t);
+    add_reference_rows(t);
+    add_raycast_rows(t);
     return t;
 }
 

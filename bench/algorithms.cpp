@@ -427,124 +427,144 @@ private:
 double per_s(double count, double ms) { return count / (ms / 1000.0); }
 double stage(const nlohmann::json& row, const char* name) { return row["stages"][name].get<double>(); }
 
+// bench's variants of an algorithm timed as configured: the options alone.
+std::vector<AlgoOptions> single_variant(const AlgoOptions& a, const std::vector<std::string>&)
+{
+    return std::vector{a};
+}
+
+// The reference's entry: the ground truth on the CPU, for meshes and regular grids.
+Algorithm reference_entry()
+{
+    return {"reference", Inputs::both, {"cpu"}, [](const AlgoOptions&) {},
+            [](const AlgoOptions&) { return std::string("reference"); },
+            [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
+                return std::make_unique<ReferenceRenderer>(s, !a.no_cache);
+            },
+            single_variant,
+            [](nlohmann::json& row, const Scene&) {
+                const double fm = row["frame_ms"].get<double>();
+                row["stages"]["setup"] = row["build_ms"];
+                row["rays_per_s"] = per_s(row["rays"].get<double>(), fm);
+                // A mesh's segments, a grid's cell pieces.
+                row["segments_per_s"] = per_s(row.value("segments", row.value("cell_pieces", 0.0)), fm);
+            },
+            [](const nlohmann::json& r) {
+                std::printf(" %6.2f Mrays/s  %6.2f Msegments/s  (setup %.1f ms)\n", r["rays_per_s"].get<double>() / 1e6,
+                            r["segments_per_s"].get<double>() / 1e6, stage(r, "setup"));
+            }};
+}
+
+// HAVS's entry: meshes, emulated or on GL (GLSL or ARB programs).
+Algorithm havs_entry()
+{
+    return {"havs",
+            Inputs::mesh,
+            {"emu", "gl", "arb"},
+            [](const AlgoOptions& a) { havs_options(a); },
+            [](const AlgoOptions& a) {
+                // The published interpolation is the default; the exact variant says so in its label, and so do
+                // entries other than the backend's default (the published on arb, uvr's marked ones elsewhere).
+                const bool arb = a.backend == "arb";
+                const std::string entries = a.entries.empty() || a.entries == (arb ? "paper" : "marked")
+                                                ? ""
+                                                : "-" + a.entries + "-entries";
+                return "havs-" + a.backend + "-k" + (a.k == gpu::kEveryFragment ? "all" : std::to_string(a.k)) +
+                       (a.ties == "facing" ? "-facing-ties" : "") +
+                       (a.interpolation == "exact" ? "-exact-interpolation" : "") + entries;
+            },
+            [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
+                return std::make_unique<HavsRendererEntry>(s, a);
+            },
+            single_variant,
+            [](nlohmann::json& row, const Scene& s) {
+                row["tetrahedra_per_s"] = per_s(double(s.mesh().tets.size()), row["frame_ms"].get<double>());
+                if (row.value("fragments", uint64_t(0)))
+                    row["fragments_per_s"] = per_s(row["fragments"].get<double>(), stage(row, "raster_and_fragment"));
+            },
+            [](const nlohmann::json& r) {
+                // Fragments are counted only with diagnostics, which a timed frame leaves off: no rate then.
+                std::printf(" k=%d  ", r["k"].get<int>());
+                if (r.contains("fragments_per_s"))
+                    std::printf("%6.2f Mfragments/s  ", r["fragments_per_s"].get<double>() / 1e6);
+                std::printf("sort %.1f, vertex+setup %.1f, raster+fragment %.1f, flush %.1f, readback %.1f ms "
+                            "(built in %.0f ms)\n",
+                            stage(r, "sort"), stage(r, "vertex_and_setup"), stage(r, "raster_and_fragment"),
+                            stage(r, "flush"), stage(r, "readback"), r["build_ms"].get<double>());
+            }};
+}
+
+// VICP's entry: meshes, emulated or on GL; bench times each visibility order.
+Algorithm vicp_entry()
+{
+    return {"vicp",
+            Inputs::mesh,
+            {"emu", "gl"},
+            [](const AlgoOptions& a) { vicp_options(a); },
+            [](const AlgoOptions& a) {
+                return "vicp-" + a.backend + "-" + a.order + (a.interpolation == "exact" ? "-exact-interpolation" : "");
+            },
+            [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
+                return std::make_unique<VicpRendererEntry>(s, a);
+            },
+            [](const AlgoOptions& a, const std::vector<std::string>& orders) {
+                std::vector<AlgoOptions> v;
+                for (const auto& o : orders) {
+                    v.push_back(a);
+                    v.back().order = o;
+                }
+                return v;
+            },
+            [](nlohmann::json& row, const Scene& s) {
+                row["tetrahedra_per_s"] = per_s(double(s.mesh().tets.size()), row["frame_ms"].get<double>());
+                row["fragments_per_s"] = per_s(row["fragments"].get<double>(), stage(row, "raster_and_fragment"));
+            },
+            [](const nlohmann::json& r) {
+                std::printf(
+                    " %-8s %6.2f Mfragments/s  sort %.1f, project %.1f, vertex+setup %.1f, raster+fragment "
+                    "%.1f ms; %.0f bytes sent per tetrahedron (the published: %.0f); %llu ordering errors, "
+                    "%llu cycle breaks\n",
+                    r["order"].get<std::string>().c_str(), r["fragments_per_s"].get<double>() / 1e6,
+                    stage(r, "sort"), stage(r, "project"), stage(r, "vertex_and_setup"),
+                    stage(r, "raster_and_fragment"), r["bytes_sent_per_tet"].get<double>(),
+                    r["published_bytes_sent_per_tet"].get<double>(),
+                    (unsigned long long)r["ordering_errors"].get<uint64_t>(),
+                    (unsigned long long)r["cycle_breaks"].get<uint64_t>());
+            }};
+}
+
+// The ray caster's entry: regular grids, emulated or on GL; bench times post-classified and pre-integrated.
+Algorithm raycast_entry()
+{
+    return {"raycast", Inputs::grid, {"emu", "gl"}, [](const AlgoOptions& a) { raycast_options(a); },
+            [](const AlgoOptions& a) {
+                return "raycast-" + a.backend + (a.preintegrate ? "-preint" : "-post") +
+                       (a.interpolation == "exact" ? "-exact-interpolation" : "");
+            },
+            [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
+                return std::make_unique<RaycastRendererEntry>(s, a);
+            },
+            [](const AlgoOptions& a, const std::vector<std::string>&) {
+                std::vector<AlgoOptions> v(2, a);
+                v[0].preintegrate = false;
+                v[1].preintegrate = true;
+                return v;
+            },
+            [](nlohmann::json& row, const Scene&) {
+                row["samples_per_s"] = per_s(row["samples"].get<double>(), stage(row, "march"));
+            },
+            [](const nlohmann::json& r) {
+                std::printf(" %-14s %6.2f Msamples/s  setup %.1f, march %.1f, readback %.1f ms; step %g, %s "
+                            "texture\n",
+                            r["classification"].get<std::string>().c_str(), r["samples_per_s"].get<double>() / 1e6,
+                            stage(r, "setup"), stage(r, "march"), stage(r, "readback"), r["step"].get<double>(),
+                            r["volume_format"].get<std::string>().c_str());
+            }};
+}
+
 std::vector<Algorithm> make_registry()
 {
-    const auto single = [](const AlgoOptions& a, const std::vector<std::string>&) { return std::vector{a}; };
-    std::vector<Algorithm> r;
-
-    r.push_back({"reference", Inputs::both, {"cpu"}, [](const AlgoOptions&) {},
-                 [](const AlgoOptions&) { return std::string("reference"); },
-                 [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
-                     return std::make_unique<ReferenceRenderer>(s, !a.no_cache);
-                 },
-                 single,
-                 [](nlohmann::json& row, const Scene&) {
-                     const double fm = row["frame_ms"].get<double>();
-                     row["stages"]["setup"] = row["build_ms"];
-                     row["rays_per_s"] = per_s(row["rays"].get<double>(), fm);
-                     // A mesh's segments, a grid's cell pieces.
-                     row["segments_per_s"] = per_s(row.value("segments", row.value("cell_pieces", 0.0)), fm);
-                 },
-                 [](const nlohmann::json& r) {
-                     std::printf(" %6.2f Mrays/s  %6.2f Msegments/s  (setup %.1f ms)\n", r["rays_per_s"].get<double>() / 1e6,
-                                 r["segments_per_s"].get<double>() / 1e6, stage(r, "setup"));
-                 }});
-
-    r.push_back({"havs",
-                 Inputs::mesh,
-                 {"emu", "gl", "arb"},
-                 [](const AlgoOptions& a) { havs_options(a); },
-                 [](const AlgoOptions& a) {
-                     // The published interpolation is the default; the exact variant says so in its label, and so do
-                     // entries other than the backend's default (the published on arb, uvr's marked ones elsewhere).
-                     const bool arb = a.backend == "arb";
-                     const std::string entries = a.entries.empty() || a.entries == (arb ? "paper" : "marked")
-                                                     ? ""
-                                                     : "-" + a.entries + "-entries";
-                     return "havs-" + a.backend + "-k" + (a.k == gpu::kEveryFragment ? "all" : std::to_string(a.k)) +
-                            (a.ties == "facing" ? "-facing-ties" : "") +
-                            (a.interpolation == "exact" ? "-exact-interpolation" : "") + entries;
-                 },
-                 [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
-                     return std::make_unique<HavsRendererEntry>(s, a);
-                 },
-                 single,
-                 [](nlohmann::json& row, const Scene& s) {
-                     row["tetrahedra_per_s"] = per_s(double(s.mesh().tets.size()), row["frame_ms"].get<double>());
-                     if (row.value("fragments", uint64_t(0)))
-                         row["fragments_per_s"] = per_s(row["fragments"].get<double>(), stage(row, "raster_and_fragment"));
-                 },
-                 [](const nlohmann::json& r) {
-                     // Fragments are counted only with diagnostics, which a timed frame leaves off: no rate then.
-                     std::printf(" k=%d  ", r["k"].get<int>());
-                     if (r.contains("fragments_per_s"))
-                         std::printf("%6.2f Mfragments/s  ", r["fragments_per_s"].get<double>() / 1e6);
-                     std::printf("sort %.1f, vertex+setup %.1f, raster+fragment %.1f, flush %.1f, readback %.1f ms "
-                                 "(built in %.0f ms)\n",
-                                 stage(r, "sort"), stage(r, "vertex_and_setup"), stage(r, "raster_and_fragment"),
-                                 stage(r, "flush"), stage(r, "readback"), r["build_ms"].get<double>());
-                 }});
-
-    r.push_back({"vicp",
-                 Inputs::mesh,
-                 {"emu", "gl"},
-                 [](const AlgoOptions& a) { vicp_options(a); },
-                 [](const AlgoOptions& a) {
-                     return "vicp-" + a.backend + "-" + a.order + (a.interpolation == "exact" ? "-exact-interpolation" : "");
-                 },
-                 [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
-                     return std::make_unique<VicpRendererEntry>(s, a);
-                 },
-                 [](const AlgoOptions& a, const std::vector<std::string>& orders) {
-                     std::vector<AlgoOptions> v;
-                     for (const auto& o : orders) {
-                         v.push_back(a);
-                         v.back().order = o;
-                     }
-                     return v;
-                 },
-                 [](nlohmann::json& row, const Scene& s) {
-                     row["tetrahedra_per_s"] = per_s(double(s.mesh().tets.size()), row["frame_ms"].get<double>());
-                     row["fragments_per_s"] = per_s(row["fragments"].get<double>(), stage(row, "raster_and_fragment"));
-                 },
-                 [](const nlohmann::json& r) {
-                     std::printf(
-                         " %-8s %6.2f Mfragments/s  sort %.1f, project %.1f, vertex+setup %.1f, raster+fragment "
-                         "%.1f ms; %.0f bytes sent per tetrahedron (the published: %.0f); %llu ordering errors, "
-                         "%llu cycle breaks\n",
-                         r["order"].get<std::string>().c_str(), r["fragments_per_s"].get<double>() / 1e6,
-                         stage(r, "sort"), stage(r, "project"), stage(r, "vertex_and_setup"),
-                         stage(r, "raster_and_fragment"), r["bytes_sent_per_tet"].get<double>(),
-                         r["published_bytes_sent_per_tet"].get<double>(),
-                         (unsigned long long)r["ordering_errors"].get<uint64_t>(),
-                         (unsigned long long)r["cycle_breaks"].get<uint64_t>());
-                 }});
-
-    r.push_back({"raycast", Inputs::grid, {"emu", "gl"}, [](const AlgoOptions& a) { raycast_options(a); },
-                 [](const AlgoOptions& a) {
-                     return "raycast-" + a.backend + (a.preintegrate ? "-preint" : "-post") +
-                            (a.interpolation == "exact" ? "-exact-interpolation" : "");
-                 },
-                 [](const Scene& s, const AlgoOptions& a) -> std::unique_ptr<Renderer> {
-                     return std::make_unique<RaycastRendererEntry>(s, a);
-                 },
-                 [](const AlgoOptions& a, const std::vector<std::string>&) {
-                     std::vector<AlgoOptions> v(2, a);
-                     v[0].preintegrate = false;
-                     v[1].preintegrate = true;
-                     return v;
-                 },
-                 [](nlohmann::json& row, const Scene&) {
-                     row["samples_per_s"] = per_s(row["samples"].get<double>(), stage(row, "march"));
-                 },
-                 [](const nlohmann::json& r) {
-                     std::printf(" %-14s %6.2f Msamples/s  setup %.1f, march %.1f, readback %.1f ms; step %g, %s "
-                                 "texture\n",
-                                 r["classification"].get<std::string>().c_str(), r["samples_per_s"].get<double>() / 1e6,
-                                 stage(r, "setup"), stage(r, "march"), stage(r, "readback"), r["step"].get<double>(),
-                                 r["volume_format"].get<std::string>().c_str());
-                 }});
-    return r;
+    return {reference_entry(), havs_entry(), vicp_entry(), raycast_entry()};
 }
 
 }  // namespace

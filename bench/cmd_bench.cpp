@@ -94,6 +94,106 @@ nlohmann::json time_frames(const Scene& s, const BenchArgs& a, const Algorithm& 
     return row;
 }
 
+// The start of bench's JSON: the scene, its size, the machine, and the results to come.
+nlohmann::json bench_header(const BenchArgs& a, const Scene& s, double load_ms, std::size_t elements,
+                            const char* element)
+{
+    nlohmann::json out;
+    out["mesh"] = a.scene.input.path;
+    out[element] = elements;
+    out["width"] = s.width;
+    out["height"] = s.height;
+    out["load_ms"] = load_ms;
+    out["machine"] = {{"cpu", cpu_model()}, {"threads", std::thread::hardware_concurrency()}};
+    out["results"] = nlohmann::json::array();
+    return out;
+}
+
+// Times each algorithm on each of the backends asked for that it has, each of its bench variants apart, into
+// out["results"].
+void time_algorithms(const Scene& s, const BenchArgs& a, const std::vector<std::string>& algos,
+                     const std::vector<std::string>& backends, const std::vector<std::string>& orders,
+                     nlohmann::json& out)
+{
+    // Each algorithm as a user renders it by default, with --k; the reference without its cache. HAVS is timed
+    // without per-pixel diagnostics on every backend: on GL one RGBA32F target fewer to fetch and write per
+    // fragment (5 % of a Blunt Fin frame), in the emulation no bookkeeping per fragment; the image is the same
+    // (tests/test_havs.cpp), and the counts are `render --diagnostics`'s.
+    AlgoOptions base;
+    base.k = a.algo.k;
+    base.gl = a.algo.gl;
+    base.no_cache = true;
+    base.diagnostics = false;
+    if (a.algo.interpolation.find(',') != std::string::npos)
+        throw InputError("", "--interpolation takes one of gpu or exact here, not a list");
+    for (const auto& x : algos) {
+        const Algorithm& algo = find_algorithm(x);
+        const std::vector<std::string> algo_backends = algo.backends.size() == 1 ? algo.backends : backends;
+        for (const auto& b : algo_backends) {
+            if (std::find(algo.backends.begin(), algo.backends.end(), b) == algo.backends.end()) continue;
+            AlgoOptions o = base;
+            o.backend = b;
+            if (x == "raycast" || x == "vicp") o.interpolation = a.algo.interpolation;
+            if (x == "vicp") o.send = a.algo.send;
+            if (x == "havs") {
+                o.interpolation = a.algo.interpolation;
+                o.entries = a.algo.entries;
+                o.arb_draw = a.algo.arb_draw;
+                o.arb_barrier = a.algo.arb_barrier;
+                o.send = a.algo.send;
+            }
+            for (const AlgoOptions& v : algo.bench_variants(o, orders))
+                out["results"].push_back(time_frames(s, a, algo, v));
+        }
+    }
+}
+
+// The text report: the scene and machine, one line per timed row, the peak memory.
+void print_bench(const BenchArgs& a, const Scene& s, const nlohmann::json& out, std::size_t elements,
+                 const char* element)
+{
+    std::printf("%s: %zu %s, %dx%d, %s (%u threads)\n", a.scene.input.path.c_str(), elements, element, s.width,
+                s.height, cpu_model().c_str(), std::thread::hardware_concurrency());
+    for (const auto& r : out["results"]) {
+        std::printf("  %-10s %-4s %9.1f ms/frame ", r["algo"].get<std::string>().c_str(),
+                    r["backend"].get<std::string>().c_str(), r["frame_ms"].get<double>());
+        find_algorithm(r["algo"].get<std::string>()).print_bench_row(r);
+    }
+    std::printf("  peak memory %.1f MiB (%.0f bytes per %s)\n", out["peak_rss_mib"].get<double>(),
+                out[s.is_volume() ? "bytes_per_voxel" : "bytes_per_tet"].get<double>(),
+                s.is_volume() ? "voxel" : "tetrahedron");
+}
+
+// The bench command: the lists checked, the scene loaded, every configuration timed, the JSON or text written.
+void run_bench(const BenchArgs& a)
+{
+    const std::vector<std::string> algos = split_list(a.algos), backends = split_list(a.backends);
+    for (const auto& x : algos) run_algorithm_check(x);
+    for (const auto& b : backends)
+        if (b != "emu" && b != "gl" && b != "arb")
+            throw InputError("", "--backend must list emu, gl and/or arb, not '" + b + "'");
+    gpu::parse_gl_platform(a.algo.gl);
+    const std::vector<std::string> orders = split_list(a.orders);
+    for (const auto& o : orders) gpu::parse_cell_order(o);
+    const auto t0 = Clock::now();
+    const Scene s = setup_scene(a.scene);
+    const double load_ms = ms_since(t0);
+    for (const auto& x : algos) check_algorithm_scene(s, x);  // refused before timing
+    // Per element: tetrahedra of a mesh, voxels (samples) of a regular grid.
+    const auto& dims = s.is_volume() ? s.volume().dims : std::array<int64_t, 3>{0, 0, 0};
+    const std::size_t elements = s.is_volume() ? std::size_t(dims[0] * dims[1] * dims[2]) : s.mesh().tets.size();
+    const char* element = s.is_volume() ? "voxels" : "tetrahedra";
+    nlohmann::json out = bench_header(a, s, load_ms, elements, element);
+    time_algorithms(s, a, algos, backends, orders, out);
+    out["peak_rss_mib"] = peak_rss_mib();
+    out[s.is_volume() ? "bytes_per_voxel" : "bytes_per_tet"] = peak_rss_mib() * 1024.0 * 1024.0 / double(elements);
+    if (a.json) {
+        std::printf("%s\n", out.dump(1).c_str());
+        return;
+    }
+    print_bench(a, s, out, elements, element);
+}
+
 }  // namespace
 
 void register_bench(CLI::App& app)
@@ -113,79 +213,7 @@ void register_bench(CLI::App& app)
         ->capture_default_str();
     add_algo_options(*cmd, a->algo, true, {"k", "gl", "interpolation", "entries", "arb-draw", "arb-barrier", "send"});
     cmd->add_flag("--json", a->json, "Print one JSON object on stdout");
-    cmd->callback([a] {
-        const std::vector<std::string> algos = split_list(a->algos), backends = split_list(a->backends);
-        for (const auto& x : algos) run_algorithm_check(x);
-        for (const auto& b : backends)
-            if (b != "emu" && b != "gl" && b != "arb")
-                throw InputError("", "--backend must list emu, gl and/or arb, not '" + b + "'");
-        gpu::parse_gl_platform(a->algo.gl);
-        const std::vector<std::string> orders = split_list(a->orders);
-        for (const auto& o : orders) gpu::parse_cell_order(o);
-        const auto t0 = Clock::now();
-        const Scene s = setup_scene(a->scene);
-        const double load_ms = ms_since(t0);
-        for (const auto& x : algos) check_algorithm_scene(s, x);  // refused before timing
-        // Per element: tetrahedra of a mesh, voxels (samples) of a regular grid.
-        const auto& dims = s.is_volume() ? s.volume().dims : std::array<int64_t, 3>{0, 0, 0};
-        const std::size_t elements =
-            s.is_volume() ? std::size_t(dims[0] * dims[1] * dims[2]) : s.mesh().tets.size();
-        const char* element = s.is_volume() ? "voxels" : "tetrahedra";
-        nlohmann::json out;
-        out["mesh"] = a->scene.input.path;
-        out[element] = elements;
-        out["width"] = s.width;
-        out["height"] = s.height;
-        out["load_ms"] = load_ms;
-        out["machine"] = {{"cpu", cpu_model()}, {"threads", std::thread::hardware_concurrency()}};
-        out["results"] = nlohmann::json::array();
-        // Each algorithm as a user renders it by default, with --k; the reference without its cache. HAVS is timed
-        // without per-pixel diagnostics on every backend: on GL one RGBA32F target fewer to fetch and write per
-        // fragment (5 % of a Blunt Fin frame), in the emulation no bookkeeping per fragment; the image is the same
-        // (tests/test_havs.cpp), and the counts are `render --diagnostics`'s.
-        AlgoOptions base;
-        base.k = a->algo.k;
-        base.gl = a->algo.gl;
-        base.no_cache = true;
-        base.diagnostics = false;
-        if (a->algo.interpolation.find(',') != std::string::npos)
-            throw InputError("", "--interpolation takes one of gpu or exact here, not a list");
-        for (const auto& x : algos) {
-            const Algorithm& algo = find_algorithm(x);
-            const std::vector<std::string> algo_backends = algo.backends.size() == 1 ? algo.backends : backends;
-            for (const auto& b : algo_backends) {
-                if (std::find(algo.backends.begin(), algo.backends.end(), b) == algo.backends.end()) continue;
-                AlgoOptions o = base;
-                o.backend = b;
-                if (x == "raycast" || x == "vicp") o.interpolation = a->algo.interpolation;
-                if (x == "vicp") o.send = a->algo.send;
-                if (x == "havs") {
-                    o.interpolation = a->algo.interpolation;
-                    o.entries = a->algo.entries;
-                    o.arb_draw = a->algo.arb_draw;
-                    o.arb_barrier = a->algo.arb_barrier;
-                    o.send = a->algo.send;
-                }
-                for (const AlgoOptions& v : algo.bench_variants(o, orders)) out["results"].push_back(time_frames(s, *a, algo, v));
-            }
-        }
-        out["peak_rss_mib"] = peak_rss_mib();
-        out[s.is_volume() ? "bytes_per_voxel" : "bytes_per_tet"] = peak_rss_mib() * 1024.0 * 1024.0 / double(elements);
-        if (a->json) {
-            std::printf("%s\n", out.dump(1).c_str());
-            return;
-        }
-        std::printf("%s: %zu %s, %dx%d, %s (%u threads)\n", a->scene.input.path.c_str(), elements, element, s.width,
-                    s.height, cpu_model().c_str(), std::thread::hardware_concurrency());
-        for (const auto& r : out["results"]) {
-            std::printf("  %-10s %-4s %9.1f ms/frame ", r["algo"].get<std::string>().c_str(),
-                        r["backend"].get<std::string>().c_str(), r["frame_ms"].get<double>());
-            find_algorithm(r["algo"].get<std::string>()).print_bench_row(r);
-        }
-        std::printf("  peak memory %.1f MiB (%.0f bytes per %s)\n", out["peak_rss_mib"].get<double>(),
-                    out[s.is_volume() ? "bytes_per_voxel" : "bytes_per_tet"].get<double>(),
-                    s.is_volume() ? "voxel" : "tetrahedron");
-    });
+    cmd->callback([a] { run_bench(*a); });
 }
 
 }  // namespace uvr::cli

@@ -344,12 +344,9 @@ uvr::cli::AlgoResult run(const PyScene& s, const std::string& algo, const AlgoOp
     return uvr::cli::run_algorithm(*s.scene, algo, o);
 }
 
-}  // namespace
-
-PYBIND11_MODULE(uvr, m)
+// uvr.Error and the translation of uvr's errors into it.
+void bind_errors(py::module_& m)
 {
-    m.doc() = "uvr: how right GPU volume renderers of tetrahedral meshes are (docs/python.md)";
-    m.attr("__version__") = "0.1";
     // Every error uvr reports (a file, an option, an array) arrives as uvr.Error, a ValueError, with uvr's message,
     // its options named as Python passes them (python_names).
     static py::exception<InputError> error(m, "Error", PyExc_ValueError);
@@ -360,7 +357,11 @@ PYBIND11_MODULE(uvr, m)
             error(python_names(e.what()).c_str());
         }
     });
+}
 
+// uvr.Data and the functions that make it from arrays: mesh, volume.
+void bind_data(py::module_& m)
+{
     py::class_<Data>(m, "Data", "A mesh or volume made from arrays; hand it to uvr.Scene");
 
     m.def("mesh", &make_mesh, py::arg("points"), py::arg("tetrahedra"), py::arg("scalars") = py::none(),
@@ -372,7 +373,11 @@ PYBIND11_MODULE(uvr, m)
     m.def("volume", &make_volume, py::arg("values"), py::arg("spacing") = std::vector<double>{1.0, 1.0, 1.0},
           py::arg("origin") = std::vector<double>{0.0, 0.0, 0.0}, py::arg("name") = "scalars",
           "A regular grid from a Z x Y x X array (x fastest: NumPy's C order), with spacing and origin (x, y, z).");
+}
 
+// uvr.Scene and its read-only properties.
+void bind_scene(py::module_& m)
+{
     py::class_<PyScene>(m, "Scene", "Data, field, transfer function, camera and size: what every render takes")
         .def(py::init(&make_scene), py::arg("source"), py::kw_only(), py::arg("field") = "", py::arg("q") = "",
              py::arg("dims") = py::none(), py::arg("dtype") = "uint8", py::arg("big_endian") = false,
@@ -391,7 +396,11 @@ PYBIND11_MODULE(uvr, m)
                                [](const PyScene& s) { return json_value(uvr::transfer_function_json(s.scene->tf)); })
         .def_property_readonly("tetrahedra",
                                [](const PyScene& s) { return s.scene->is_volume() ? 0 : s.scene->mesh().tets.size(); });
+}
 
+// The renders: render (any algorithm) and reference.
+void bind_render(py::module_& m)
+{
     m.def(
         "render",
         [](const PyScene& s, const std::string& algo, bool with_stats, const py::kwargs& kwargs) -> py::object {
@@ -417,6 +426,11 @@ PYBIND11_MODULE(uvr, m)
         },
         py::arg("scene"), py::kw_only(), py::arg("cache") = true,
         "The exact reference image (cached on disk as the program caches it).");
+}
+
+// The measures: measure (an image against the reference) and budget (an algorithm's error budget).
+void bind_measures(py::module_& m)
+{
     m.def(
         "measure",
         [](const py::handle& image, const py::handle& reference) {
@@ -445,6 +459,11 @@ PYBIND11_MODULE(uvr, m)
         "The error budget of `algo` (havs, vicp, raycast) as `uvr budget` computes it (docs/budget.md): the baseline "
         "with every switch exact, one run per factor, the total, each against the reference; writes the report to "
         "`report` and returns budget.json's object (a dict). Options as render's.");
+}
+
+// What uvr offers: algorithms and options.
+void bind_catalogue(py::module_& m)
+{
     m.def(
         "algorithms",
         [] {
@@ -464,4 +483,18 @@ PYBIND11_MODULE(uvr, m)
             return d;
         },
         "Every keyword option of render() and budget(): its program option (--table-size), help and default.");
+}
+
+}  // namespace
+
+PYBIND11_MODULE(uvr, m)
+{
+    m.doc() = "uvr: how right GPU volume renderers of tetrahedral meshes are (docs/python.md)";
+    m.attr("__version__") = "0.1";
+    bind_errors(m);
+    bind_data(m);
+    bind_scene(m);
+    bind_render(m);
+    bind_measures(m);
+    bind_catalogue(m);
 }

@@ -98,9 +98,8 @@ const char* type_name(int type)
     }
 }
 
-}  // namespace
-
-TetMesh tetrahedralize_cells(const UnstructuredCells& cells, std::vector<std::string>& warnings)
+// The arrays' sizes: an offset per cell and one more, a value per cell in each cell field.
+void check_cell_arrays(const UnstructuredCells& cells)
 {
     const std::string& file = cells.source;
     const std::size_t n = cells.types.size();
@@ -111,12 +110,70 @@ TetMesh tetrahedralize_cells(const UnstructuredCells& cells, std::vector<std::st
         if (f.values.size() != n)
             throw InputError(file, "cell field '" + f.name + "' has " + std::to_string(f.values.size()) +
                                        " values for " + std::to_string(n) + " cells");
+}
+
+// The split of a 3D cell of VTK type `type` (null for a tetrahedron, which is kept as it is) and its point count.
+const CellShape* cell_shape(const std::string& file, std::size_t c, int type, int& expected)
+{
+    const CellShape* shape = nullptr;
+    switch (type) {
+    case kVtkTetra: expected = 4; break;
+    case kVtkVoxel:
+    case kVtkHexahedron: expected = 8; shape = &hexahedron_shape(); break;
+    case kVtkWedge: expected = 6; shape = &wedge_shape(); break;
+    case kVtkPyramid: expected = 5; shape = &pyramid_shape(); break;
+    default:
+        throw InputError(file, "cell " + std::to_string(c) + " has unknown cell type " + std::to_string(type));
+    }
+    return shape;
+}
+
+// Cell c's points `g` (checked against the file's points) and their canonical keys, a voxel's in a hexahedron's order.
+void cell_corners(const UnstructuredCells& cells, const std::vector<uint32_t>& canonical, std::size_t c, int type,
+                  int64_t begin, int expected, uint32_t g[8], uint32_t key[8])
+{
+    const std::string& file = cells.source;
+    const int64_t np = static_cast<int64_t>(cells.points.size());
+    for (int k = 0; k < expected; ++k) {
+        const int64_t idx = cells.connectivity[static_cast<std::size_t>(begin + k)];
+        if (idx < 0 || idx >= np)
+            throw InputError(file, "cell " + std::to_string(c) + " uses point " + std::to_string(idx) +
+                                       ", but the file has " + std::to_string(np) + " points");
+        g[k] = static_cast<uint32_t>(idx);
+        key[k] = canonical[g[k]];
+    }
+    if (type == kVtkVoxel) {
+        // A voxel orders its corners by (x, y, z) bits; the hexahedron goes around each quad.
+        std::swap(g[2], g[3]);
+        std::swap(g[6], g[7]);
+        std::swap(key[2], key[3]);
+        std::swap(key[6], key[7]);
+    }
+}
+
+// The cell fields carried to the tetrahedra, each tetrahedron taking its source cell's value.
+void add_cell_fields(const UnstructuredCells& cells, const std::vector<uint32_t>& source_cell, TetMesh& mesh)
+{
+    for (const ScalarField& f : cells.cell_fields) {
+        ScalarField t{f.name, {}, FieldAssociation::cell};
+        t.values.reserve(source_cell.size());
+        for (uint32_t c : source_cell) t.values.push_back(f.values[c]);
+        mesh.fields.push_back(std::move(t));
+    }
+}
+
+}  // namespace
+
+TetMesh tetrahedralize_cells(const UnstructuredCells& cells, std::vector<std::string>& warnings)
+{
+    const std::string& file = cells.source;
+    const std::size_t n = cells.types.size();
+    check_cell_arrays(cells);
     TetMesh mesh;
     mesh.source = file;
     mesh.points = cells.points;
     mesh.fields = cells.point_fields;
     mesh.tets.reserve(n);
-    const int64_t np = static_cast<int64_t>(cells.points.size());
     const std::vector<uint32_t> canonical = canonical_points(cells.points);
     std::vector<uint32_t> source_cell;  // per tetrahedron, the cell it came from (cell fields only)
     std::map<int, std::size_t> skipped;  // type -> count, sorted so warnings come in a fixed order
@@ -135,47 +192,19 @@ TetMesh tetrahedralize_cells(const UnstructuredCells& cells, std::vector<std::st
             throw InputError(file, "cell " + std::to_string(c) + " has VTK cell type " + std::to_string(type) +
                                        ", a 3D cell uvr does not support (linear tetrahedra, hexahedra, voxels, "
                                        "wedges and pyramids only)");
-        const CellShape* shape = nullptr;
         int expected = 0;
-        switch (type) {
-        case kVtkTetra: expected = 4; break;
-        case kVtkVoxel:
-        case kVtkHexahedron: expected = 8; shape = &hexahedron_shape(); break;
-        case kVtkWedge: expected = 6; shape = &wedge_shape(); break;
-        case kVtkPyramid: expected = 5; shape = &pyramid_shape(); break;
-        default:
-            throw InputError(file, "cell " + std::to_string(c) + " has unknown cell type " + std::to_string(type));
-        }
+        const CellShape* shape = cell_shape(file, c, type, expected);
         if (end - begin != expected)
             throw InputError(file, "cell " + std::to_string(c) + " (type " + std::to_string(type) + ") has " +
                                        std::to_string(end - begin) + " points, expected " + std::to_string(expected));
-        for (int k = 0; k < expected; ++k) {
-            const int64_t idx = cells.connectivity[static_cast<std::size_t>(begin + k)];
-            if (idx < 0 || idx >= np)
-                throw InputError(file, "cell " + std::to_string(c) + " uses point " + std::to_string(idx) +
-                                           ", but the file has " + std::to_string(np) + " points");
-            g[k] = static_cast<uint32_t>(idx);
-            key[k] = canonical[g[k]];
-        }
-        if (type == kVtkVoxel) {
-            // A voxel orders its corners by (x, y, z) bits; the hexahedron goes around each quad.
-            std::swap(g[2], g[3]);
-            std::swap(g[6], g[7]);
-            std::swap(key[2], key[3]);
-            std::swap(key[6], key[7]);
-        }
+        cell_corners(cells, canonical, c, type, begin, expected, g, key);
         if (shape)
             cone_split(*shape, g, key, mesh.tets);
         else
             mesh.tets.push_back({g[0], g[1], g[2], g[3]});
         if (!cells.cell_fields.empty()) source_cell.resize(mesh.tets.size(), uint32_t(c));
     }
-    for (const ScalarField& f : cells.cell_fields) {
-        ScalarField t{f.name, {}, FieldAssociation::cell};
-        t.values.reserve(source_cell.size());
-        for (uint32_t c : source_cell) t.values.push_back(f.values[c]);
-        mesh.fields.push_back(std::move(t));
-    }
+    add_cell_fields(cells, source_cell, mesh);
     for (const auto& [type, count] : skipped)
         warnings.push_back(file + ": skipped " + std::to_string(count) + " " + type_name(type) +
                            " cell(s) (VTK type " + std::to_string(type) + "): only 3D cells are rendered");

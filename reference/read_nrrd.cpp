@@ -199,6 +199,94 @@ bool parse_data_file(Header& h, const std::string& value, std::string_view text,
     return false;
 }
 
+// The fields of the samples and the grid: type, dimension, sizes. False for any other field.
+bool parse_grid_field(Header& h, const std::string& field, const std::string& value)
+{
+    if (field == "type") {
+        std::string name;
+        for (const std::string& w : split_words(lowercase(value))) name += (name.empty() ? "" : " ") + w;
+        h.type = nrrd_type(name);
+        if (!h.type)
+            h.fail("unsupported type '" + value + "' (uvr reads 8-, 16- and 32-bit integers, float and double)");
+    } else if (field == "dimension") {
+        int64_t d = h.integer(value, "dimension");
+        if (d != 3) h.fail("dimension " + std::to_string(d) + ": uvr reads 3D volumes only");
+        h.dimension = 3;
+    } else if (field == "sizes") {
+        auto w = h.exactly(value, 3, "sizes");
+        for (int a = 0; a < 3; ++a) {
+            h.sizes[a] = h.integer(w[a], "size");
+            if (h.sizes[a] < 1) h.fail("sizes must be at least 1, found " + w[a]);
+        }
+    } else {
+        return false;
+    }
+    return true;
+}
+
+// The diagonal of axis-aligned, positive space directions (one vector per axis).
+glm::dvec3 directions_diagonal(const Header& h, const std::string& value)
+{
+    auto v = h.vectors(value, "space directions");
+    if (v.size() != 3 || !v[0] || !v[1] || !v[2]) h.fail("space directions: expected three vectors, one per axis");
+    glm::dvec3 diag;
+    for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b)
+            if (a != b && (*v[a])[b] != 0.0)
+                h.fail("space directions are not axis-aligned; uvr renders axis-aligned grids only");
+        if (!((*v[a])[a] > 0.0))
+            h.fail("space direction of axis " + std::to_string(a) +
+                   " is not positive (flipped axes are not supported)");
+        diag[a] = (*v[a])[a];
+    }
+    return diag;
+}
+
+// The fields of the samples' positions: spacings, space directions, space origin, space dimension. False for any
+// other field.
+bool parse_space_field(Header& h, const std::string& field, const std::string& value)
+{
+    if (field == "spacings") {
+        auto w = h.exactly(value, 3, "spacings");
+        h.spacings = glm::dvec3(h.real(w[0], "spacing"), h.real(w[1], "spacing"), h.real(w[2], "spacing"));
+    } else if (field == "space directions") {
+        h.directions_diagonal = directions_diagonal(h, value);
+    } else if (field == "space origin") {
+        auto v = h.vectors(value, "space origin");
+        if (v.size() != 1 || !v[0]) h.fail("space origin: expected one vector like (0,0,0)");
+        h.origin = *v[0];
+    } else if (field == "space dimension") {
+        if (h.integer(value, "space dimension") != 3) h.fail("space dimension must be 3");
+    } else {
+        return false;
+    }
+    return true;
+}
+
+// The fields of how the samples are stored: encoding, endian, line skip, byte skip. False for any other field.
+bool parse_storage_field(Header& h, const std::string& field, const std::string& value)
+{
+    if (field == "encoding") {
+        h.encoding = lowercase(value);
+        if (h.encoding == "gz") h.encoding = "gzip";
+        if (h.encoding == "text" || h.encoding == "txt") h.encoding = "ascii";
+        if (h.encoding != "raw" && h.encoding != "gzip" && h.encoding != "ascii")
+            h.fail("unsupported encoding '" + value + "' (uvr reads raw, gzip and ascii)");
+    } else if (field == "endian") {
+        if (value != "little" && value != "big") h.fail("endian must be 'little' or 'big', found '" + value + "'");
+        h.big_endian = value == "big";
+    } else if (field == "line skip" || field == "lineskip") {
+        h.line_skip = h.integer(value, "line skip");
+        if (h.line_skip < 0) h.fail("line skip must not be negative");
+    } else if (field == "byte skip" || field == "byteskip") {
+        h.byte_skip = h.integer(value, "byte skip");
+        if (h.byte_skip < -1) h.fail("byte skip must be -1 or more");
+    } else {
+        return false;
+    }
+    return true;
+}
+
 Header parse_header(const std::string& path, std::string_view text)
 {
     Header h;
@@ -231,62 +319,10 @@ Header parse_header(const std::string& path, std::string_view text)
         const std::string field = lowercase(l.substr(0, colon));
         std::string value(l.substr(colon + 2));
         while (!value.empty() && (value.back() == ' ' || value.back() == '\t')) value.pop_back();
-        if (field == "type") {
-            std::string name;
-            for (const std::string& w : split_words(lowercase(value))) name += (name.empty() ? "" : " ") + w;
-            h.type = nrrd_type(name);
-            if (!h.type)
-                h.fail("unsupported type '" + value + "' (uvr reads 8-, 16- and 32-bit integers, float and double)");
-        } else if (field == "dimension") {
-            int64_t d = h.integer(value, "dimension");
-            if (d != 3) h.fail("dimension " + std::to_string(d) + ": uvr reads 3D volumes only");
-            h.dimension = 3;
-        } else if (field == "sizes") {
-            auto w = h.exactly(value, 3, "sizes");
-            for (int a = 0; a < 3; ++a) {
-                h.sizes[a] = h.integer(w[a], "size");
-                if (h.sizes[a] < 1) h.fail("sizes must be at least 1, found " + w[a]);
-            }
-        } else if (field == "spacings") {
-            auto w = h.exactly(value, 3, "spacings");
-            h.spacings = glm::dvec3(h.real(w[0], "spacing"), h.real(w[1], "spacing"), h.real(w[2], "spacing"));
-        } else if (field == "space directions") {
-            auto v = h.vectors(value, "space directions");
-            if (v.size() != 3 || !v[0] || !v[1] || !v[2])
-                h.fail("space directions: expected three vectors, one per axis");
-            glm::dvec3 diag;
-            for (int a = 0; a < 3; ++a) {
-                for (int b = 0; b < 3; ++b)
-                    if (a != b && (*v[a])[b] != 0.0)
-                        h.fail("space directions are not axis-aligned; uvr renders axis-aligned grids only");
-                if (!((*v[a])[a] > 0.0))
-                    h.fail("space direction of axis " + std::to_string(a) +
-                           " is not positive (flipped axes are not supported)");
-                diag[a] = (*v[a])[a];
-            }
-            h.directions_diagonal = diag;
-        } else if (field == "space origin") {
-            auto v = h.vectors(value, "space origin");
-            if (v.size() != 1 || !v[0]) h.fail("space origin: expected one vector like (0,0,0)");
-            h.origin = *v[0];
-        } else if (field == "space dimension") {
-            if (h.integer(value, "space dimension") != 3) h.fail("space dimension must be 3");
-        } else if (field == "encoding") {
-            h.encoding = lowercase(value);
-            if (h.encoding == "gz") h.encoding = "gzip";
-            if (h.encoding == "text" || h.encoding == "txt") h.encoding = "ascii";
-            if (h.encoding != "raw" && h.encoding != "gzip" && h.encoding != "ascii")
-                h.fail("unsupported encoding '" + value + "' (uvr reads raw, gzip and ascii)");
-        } else if (field == "endian") {
-            if (value != "little" && value != "big") h.fail("endian must be 'little' or 'big', found '" + value + "'");
-            h.big_endian = value == "big";
-        } else if (field == "line skip" || field == "lineskip") {
-            h.line_skip = h.integer(value, "line skip");
-            if (h.line_skip < 0) h.fail("line skip must not be negative");
-        } else if (field == "byte skip" || field == "byteskip") {
-            h.byte_skip = h.integer(value, "byte skip");
-            if (h.byte_skip < -1) h.fail("byte skip must be -1 or more");
-        } else if (field == "data file" || field == "datafile") {
+        if (parse_grid_field(h, field, value) || parse_space_field(h, field, value) ||
+            parse_storage_field(h, field, value))
+            continue;
+        if (field == "data file" || field == "datafile") {
             if (parse_data_file(h, value, text, pos, line)) break;
         } else if (field == "content") {
             h.content = value;

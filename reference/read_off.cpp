@@ -69,13 +69,10 @@ private:
     TextScanner sc_;
 };
 
-}  // namespace
-
-Dataset read_off(const std::string& path)
+// The keyword and the counts (on its line or the next), checked against the file's size.
+void read_counts(LineReader& lr, std::vector<std::string_view>& tok, const std::string& path, const std::string& text,
+                 int64_t& nverts, int64_t& ncells)
 {
-    std::string text = read_file_bytes(path);
-    LineReader lr(text, path);
-    std::vector<std::string_view> tok;
     if (!lr.next(tok)) throw InputError(path, "empty file: expected the OFF keyword");
     if (tok[0] != "OFF")
         lr.fail("not an OFF file: expected the keyword 'OFF' on the first line, found '" +
@@ -83,18 +80,19 @@ Dataset read_off(const std::string& path)
     tok.erase(tok.begin());
     if (tok.empty() && !lr.next(tok)) lr.fail("unexpected end of file, expected the vertex and cell counts");
     if (tok.size() < 2 || tok.size() > 3) lr.fail("expected the counts 'nverts ncells [nedges]'");
-    const int64_t nverts = lr.integer(tok[0], "number of vertices");
-    const int64_t ncells = lr.integer(tok[1], "number of cells");
+    nverts = lr.integer(tok[0], "number of vertices");
+    ncells = lr.integer(tok[1], "number of cells");
     if (nverts < 0 || ncells < 0) lr.fail("negative vertex or cell count");
     // Each vertex line holds at least "x y z\n" (6 bytes) and each cell line "4 a b c d\n" (10 bytes).
     if (uint64_t(nverts) > text.size() / 6 || uint64_t(ncells) > text.size() / 10 ||
         uint64_t(nverts) * 6 + uint64_t(ncells) * 10 > text.size())
         lr.fail("the counts declare " + std::to_string(nverts) + " vertices and " + std::to_string(ncells) +
                 " cells, but the file (" + std::to_string(text.size()) + " bytes) is too small to hold them");
+}
 
-    Dataset result;
-    TetMesh mesh;
-    mesh.source = path;
+// The vertex lines: the points, and the field "scalar" when they have a fourth column.
+void read_vertices(LineReader& lr, std::vector<std::string_view>& tok, int64_t nverts, TetMesh& mesh)
+{
     mesh.points.resize(nverts);
     ScalarField scalar{"scalar", {}};
     for (int64_t v = 0; v < nverts; ++v) {
@@ -113,9 +111,13 @@ Dataset read_off(const std::string& path)
         if (has_scalar) scalar.values[v] = lr.real(tok[3], "scalar");
     }
     if (!scalar.values.empty()) mesh.fields.push_back(std::move(scalar));
+}
 
+// The cell lines: the tetrahedra. Returns how many cells were triangles: a surface OFF is told apart from a broken
+// tetrahedral one only once every cell has been seen to be a triangle (then none is stored).
+int64_t read_cells(LineReader& lr, std::vector<std::string_view>& tok, int64_t nverts, int64_t ncells, TetMesh& mesh)
+{
     mesh.tets.reserve(ncells);
-    // A surface OFF is told apart from a broken tetrahedral one only once every cell has been seen to be a triangle.
     int64_t triangles = 0;
     for (int64_t c = 0; c < ncells; ++c) {
         if (!lr.next(tok))
@@ -143,6 +145,24 @@ Dataset read_off(const std::string& path)
         }
         mesh.tets.push_back(t);
     }
+    return triangles;
+}
+
+}  // namespace
+
+Dataset read_off(const std::string& path)
+{
+    std::string text = read_file_bytes(path);
+    LineReader lr(text, path);
+    std::vector<std::string_view> tok;
+    int64_t nverts = 0, ncells = 0;
+    read_counts(lr, tok, path, text, nverts, ncells);
+
+    Dataset result;
+    TetMesh mesh;
+    mesh.source = path;
+    read_vertices(lr, tok, nverts, mesh);
+    const int64_t triangles = read_cells(lr, tok, nverts, ncells, mesh);
     if (triangles > 0)
         throw InputError(path, "no 3D cell: all " + std::to_string(triangles) +
                                    " cells are triangles, so this is a surface OFF; uvr needs tetrahedra");

@@ -455,15 +455,10 @@ std::string position_of(std::string_view text, std::size_t offset)
     return "line " + std::to_string(line) + ", column " + std::to_string(col);
 }
 
-}  // namespace
-
-Dataset read_vtk_xml(const std::string& path)
+// The XML part of the file: all of it, or with an AppendedData section (raw bytes are no XML) everything up to that
+// tag, closed; the section's data are left in f.appended.
+std::string xml_part(XmlFile& f, const std::string& data)
 {
-    const std::string data = read_file_bytes(path);
-    if (data.empty()) throw InputError(path, "empty file (not a VTK XML file)");
-    XmlFile f;
-    f.path = path;
-
     std::string xml_text = data;
     const std::size_t tag = data.find("<AppendedData");
     if (tag != std::string::npos) {
@@ -479,7 +474,12 @@ Dataset read_vtk_xml(const std::string& path)
             f.appended = std::string_view(data).substr(mark + 1);
         }
     }
-    pugi::xml_document doc;
+    return xml_text;
+}
+
+// Parses the XML part into `doc`; a parse error names its place, or the truncation that caused it.
+void parse_xml(XmlFile& f, const std::string& xml_text, pugi::xml_document& doc)
+{
     const pugi::xml_parse_result parsed = doc.load_buffer(xml_text.data(), xml_text.size(), pugi::parse_default,
                                                           pugi::encoding_utf8);
     if (!parsed) {
@@ -491,10 +491,11 @@ Dataset read_vtk_xml(const std::string& path)
                    parsed.description() + ")");
         f.fail("XML does not parse at " + where + ": " + parsed.description());
     }
-    const pugi::xml_node root = doc.document_element();
-    if (std::string(root.name()) != "VTKFile")
-        f.fail("not a VTK XML file: the root element is <" + brief(root.name()) + ">, expected <VTKFile>");
+}
 
+// The root's attributes on how the arrays are stored: byte_order, header_type, compressor.
+void read_storage_attributes(XmlFile& f, const pugi::xml_node& root)
+{
     const std::string order = root.attribute("byte_order").as_string("LittleEndian");
     if (order != "LittleEndian" && order != "BigEndian")
         f.fail("byte_order must be LittleEndian or BigEndian, found '" + brief(order) + "'");
@@ -507,17 +508,38 @@ Dataset read_vtk_xml(const std::string& path)
     if (!compressor.empty() && compressor != "vtkZLibDataCompressor")
         f.fail("unsupported compressor '" + brief(compressor) + "' (uvr reads vtkZLibDataCompressor only)");
     f.zlib = !compressor.empty();
+}
 
-    if (f.has_appended) {
-        const std::string encoding = root.child("AppendedData").attribute("encoding").as_string("raw");
-        if (encoding != "raw" && encoding != "base64")
-            f.fail("AppendedData encoding must be raw or base64, found '" + brief(encoding) + "'");
-        f.appended_base64 = encoding == "base64";
-        if (f.appended_base64) f.appended = f.appended.substr(0, f.appended.find("</AppendedData>"));
-        for (const pugi::xpath_node& n : doc.select_nodes("//DataArray[@format='appended']"))
-            f.appended_offsets.push_back(n.node().attribute("offset").as_ullong());
-        std::sort(f.appended_offsets.begin(), f.appended_offsets.end());
-    }
+// The AppendedData section's encoding and the offsets of the arrays stored in it, sorted.
+void read_appended_layout(XmlFile& f, const pugi::xml_document& doc, const pugi::xml_node& root)
+{
+    const std::string encoding = root.child("AppendedData").attribute("encoding").as_string("raw");
+    if (encoding != "raw" && encoding != "base64")
+        f.fail("AppendedData encoding must be raw or base64, found '" + brief(encoding) + "'");
+    f.appended_base64 = encoding == "base64";
+    if (f.appended_base64) f.appended = f.appended.substr(0, f.appended.find("</AppendedData>"));
+    for (const pugi::xpath_node& n : doc.select_nodes("//DataArray[@format='appended']"))
+        f.appended_offsets.push_back(n.node().attribute("offset").as_ullong());
+    std::sort(f.appended_offsets.begin(), f.appended_offsets.end());
+}
+
+}  // namespace
+
+Dataset read_vtk_xml(const std::string& path)
+{
+    const std::string data = read_file_bytes(path);
+    if (data.empty()) throw InputError(path, "empty file (not a VTK XML file)");
+    XmlFile f;
+    f.path = path;
+
+    const std::string xml_text = xml_part(f, data);
+    pugi::xml_document doc;
+    parse_xml(f, xml_text, doc);
+    const pugi::xml_node root = doc.document_element();
+    if (std::string(root.name()) != "VTKFile")
+        f.fail("not a VTK XML file: the root element is <" + brief(root.name()) + ">, expected <VTKFile>");
+    read_storage_attributes(f, root);
+    if (f.has_appended) read_appended_layout(f, doc, root);
 
     const std::string type = root.attribute("type").value();
     Dataset out;

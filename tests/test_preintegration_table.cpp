@@ -4,8 +4,10 @@
 #include <cstring>
 #include <random>
 #include <stdexcept>
+#include <vector>
 
 #include "gpu/pipeline/preintegration_table.h"
+#include "gpu/pipeline/segment.h"
 #include "quadrature_oracle.h"
 #include "reference/transfer_function.h"
 #include "test_support.h"
@@ -301,4 +303,60 @@ TEST_CASE("partial pre-integration of whole segments matches the segment integra
     CHECK(err.max < 3e-6);
     CHECK(partial.integrate(0.2, 0.7, 0.0) == glm::dvec4(0.0));
     CHECK(partial.integrate(0.4, 0.4, 0.3).a == Approx(seg.integrate(0.4, 0.4, 0.3).a).margin(1e-12));
+}
+
+TEST_CASE("a segment table is built once for the same inputs and again when any input differs")
+{
+    const TransferFunction tf = test_tf();
+    const Range range{0.0, 1.0};
+    double ms = 0.0;
+    const auto first = build_segment_table(SegmentIntegrator(tf), range, 8, TexelFormat::f32, 1.0, ms);
+    const std::size_t built = segment_tables_built();
+    double again_ms = -1.0;
+    const auto again = build_segment_table(SegmentIntegrator(tf), range, 8, TexelFormat::f32, 1.0, again_ms);
+    CHECK(again == first);
+    CHECK(again_ms == ms);
+    CHECK(segment_tables_built() == built);
+
+    // Each input alone changed by the least step it can take: a new table, and it holds what a table built from
+    // those inputs holds.
+    auto next_up = [](double x) { return std::nextafter(x, INFINITY); };
+    struct Variant {
+        const char* what;
+        TransferFunction tf;
+        Range range;
+        int size;
+        TexelFormat format;
+        double max_length;
+    };
+    std::vector<Variant> variants;
+    auto add = [&](const char* what) {
+        return &variants.emplace_back(Variant{what, tf, range, 8, TexelFormat::f32, 1.0});
+    };
+    add("a colour node's scalar")->tf.color[1].s = next_up(tf.color[1].s);
+    add("a colour node's green")->tf.color[2].rgb.g = next_up(tf.color[2].rgb.g);
+    add("an extinction node's scalar")->tf.extinction[1].s = next_up(tf.extinction[1].s);
+    add("an extinction node's value")->tf.extinction[1].tau = next_up(tf.extinction[1].tau);
+    add("one more colour node")->tf.color.push_back({2.0, tf.color.back().rgb});
+    add("the range's low end")->range.lo = -1e-300;
+    add("the range's high end")->range.hi = next_up(1.0);
+    add("the resolution")->size = 9;
+    add("the texel format")->format = TexelFormat::u16;
+    add("the longest length")->max_length = next_up(1.0);
+    for (const Variant& v : variants) {
+        INFO(v.what);
+        const std::size_t before = segment_tables_built();
+        const auto table = build_segment_table(SegmentIntegrator(v.tf), v.range, v.size, v.format, v.max_length, ms);
+        CHECK(segment_tables_built() == before + 1);
+        PreintegrationConfig c;
+        c.scalar_resolution = c.length_resolution = v.size;
+        c.format = v.format;
+        c.max_length = v.max_length;
+        const PreintegrationTable fresh(SegmentIntegrator(v.tf), v.range, c);
+        REQUIRE(table->size_bytes() == fresh.size_bytes());
+        CHECK(std::memcmp(table->data(), fresh.data(), fresh.size_bytes()) == 0);
+        // Back to the first inputs: built again, as the process keeps only the most recent table.
+        build_segment_table(SegmentIntegrator(tf), range, 8, TexelFormat::f32, 1.0, ms);
+        CHECK(segment_tables_built() == before + 2);
+    }
 }

@@ -137,27 +137,13 @@ ArbHavsRenderer::~ArbHavsRenderer()
     gl_.reset();
 }
 
-HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
+// Targets and textures: attachment i is texture i of the program (the paper's pbuffer and k-buffer), cleared to
+// colour 0 and empty entries (-1, 0); the table on texture 4. Then the programs, their parameter and matrices, and the
+// vertex arrays.
+void ArbHavsRenderer::prepare_frame(const HavsFrameSetup& fs, int width, int height)
 {
-    if (cam.orthographic)
-        throw InputError("",
-                         "--backend arb: the paper's fragment program takes the distance |e| to the eye, which "
-                         "an orthographic view does not have; use a perspective camera");
-    ctx_.make_current();
     const GlFunctions& gl = ctx_.gl();
     const ArbFunctions& arb = *gl_->arb;
-    HavsFrame out;
-    HavsStats& st = out.stats;
-    st.table_ms = mesh_.table_ms();
-    st.faces = mesh_.face_count();
-
-    const HavsFrameSetup fs = setup_havs_frame(mesh_, cam, width, height);
-    st.sort_ms = fs.sort_ms;
-    store_clip_stats(fs, st);
-    auto t0 = Clock::now();
-
-    // Targets and textures: attachment i is texture i of the program (the paper's pbuffer and k-buffer), cleared to
-    // colour 0 and empty entries (-1, 0); the table on texture 4.
     gl_->framebuffer->bind(width, height);
     gl.Disable(GL_BLEND);
     gl.Disable(GL_DEPTH_TEST);
@@ -194,9 +180,13 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
     arb.EnableClientState(arb::kTexCoordArray);
     arb.TexCoordPointer(1, GL_FLOAT, sizeof(ArbVertex), reinterpret_cast<const void*>(offsetof(ArbVertex, scalar)));
     ctx_.check_error("preparing the paper's ARB programs");
-    st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
+}
 
-    // The geometry: each triangle's three vertices (an exit face's scalars negated: havs_paper_exit), in sorted order.
+// The geometry: each triangle's three vertices (an exit face's scalars negated: havs_paper_exit), in sorted order.
+void ArbHavsRenderer::geometry_pass(const HavsFrameSetup& fs, HavsStats& st)
+{
+    const GlFunctions& gl = ctx_.gl();
+    const ArbFunctions& arb = *gl_->arb;
     draw_havs_stream<ArbVertex>(
         ctx_, mesh_, fs, triangles_per_draw_, submission_, st,
         [&](uint32_t id, const uint32_t* v, ArbVertex* out) {
@@ -210,15 +200,20 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
         [&] {
             if (barrier_) arb.TextureBarrier();
         });
-    t0 = Clock::now();
+    const auto t0 = Clock::now();
     gl.Finish();
     ctx_.check_error("the paper's programs on the geometry");
     st.raster_fragment_ms += ms_since(t0);
+}
 
-    // The flush: k draws of a triangle over the whole screen whose fragments are kPaperFlushFragment: scalar -1 and
-    // the eye position (x, y, 2^60), |e| = 2^60 exactly (x and y within 3 vanish below 2^120's rounding). The
-    // model-view is the identity (so e is the position), the projection keeps x and y and puts z at 0.
-    t0 = Clock::now();
+// The flush: k draws of a triangle over the whole screen whose fragments are kPaperFlushFragment: scalar -1 and the
+// eye position (x, y, 2^60), |e| = 2^60 exactly (x and y within 3 vanish below 2^120's rounding). The model-view is
+// the identity (so e is the position), the projection keeps x and y and puts z at 0.
+void ArbHavsRenderer::flush_pass(HavsStats& st)
+{
+    const GlFunctions& gl = ctx_.gl();
+    const ArbFunctions& arb = *gl_->arb;
+    const auto t0 = Clock::now();
     const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     const float flat[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
     arb.MatrixMode(arb::kProjection);
@@ -239,11 +234,38 @@ HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
     gl.Disable(arb::kFragmentProgram);
     arb.DisableClientState(arb::kTexCoordArray);  // the context may serve another driver or harness next
     arb.DisableClientState(arb::kVertexArray);
+}
 
-    t0 = Clock::now();
+// Read back the colour (exact for float attachments) into the frame.
+void ArbHavsRenderer::read_frame(int width, int height, HavsFrame& out)
+{
+    const auto t0 = Clock::now();
     const std::vector<glm::vec4> colour = gl_->framebuffer->read(0);
-    st.readback_ms = ms_since(t0);
+    out.stats.readback_ms = ms_since(t0);
     store_havs_frame(colour.data(), nullptr, width, height, out);
+}
+
+HavsFrame ArbHavsRenderer::render(const Camera& cam, int width, int height)
+{
+    if (cam.orthographic)
+        throw InputError("",
+                         "--backend arb: the paper's fragment program takes the distance |e| to the eye, which "
+                         "an orthographic view does not have; use a perspective camera");
+    ctx_.make_current();
+    HavsFrame out;
+    HavsStats& st = out.stats;
+    st.table_ms = mesh_.table_ms();
+    st.faces = mesh_.face_count();
+
+    const HavsFrameSetup fs = setup_havs_frame(mesh_, cam, width, height);
+    st.sort_ms = fs.sort_ms;
+    store_clip_stats(fs, st);
+    const auto t0 = Clock::now();
+    prepare_frame(fs, width, height);
+    st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);
+    geometry_pass(fs, st);
+    flush_pass(st);
+    read_frame(width, height, out);
     return out;
 }
 

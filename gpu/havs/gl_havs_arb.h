@@ -93,6 +93,12 @@ public:
 private:
     static constexpr std::size_t kDefaultTrianglesPerDraw = std::size_t(1) << 17;  // 6 MiB of vertices a draw
     struct Objects;
+    // The frame's stages (render): the targets cleared, the programs bound with their parameter and matrices; the
+    // geometry pass; the k flush draws; the read-back.
+    void prepare_frame(const HavsFrameSetup& fs, int width, int height);
+    void geometry_pass(const HavsFrameSetup& fs, HavsStats& st);
+    void flush_pass(HavsStats& st);
+    void read_frame(int width, int height, HavsFrame& out);
     GlContext& ctx_;
     HavsMesh mesh_;
     std::size_t triangles_per_draw_ = kDefaultTrianglesPerDraw;

@@ -244,6 +244,43 @@ void flush_pixels(const HavsFrameConstants& fc, KEntry* kbuf, glm::vec4* fb, KBu
     });
 }
 
+// Raster per tile. The paper's k with the table's usual path: the program instantiated with k fixed and the sample
+// called directly (the same operations, so the same bits: tests/test_havs_kbuffer.cpp), which takes a tenth off the
+// frame's raster+fragment time (docs/gl-backend.md, "Speed"). Anything else: the run-time instance. --k all: each
+// pixel's fragments sorted once a tile (havs_pixel_sort.h), composited there.
+void raster_stage(const RasterInput& in, const SegmentShader& shade,
+                  const std::optional<TableSegmentShader>& table_path, KEntry* kbuf, glm::vec4* fb,
+                  KBufferDiagnostics* diag_at, int width)
+{
+    const HavsFrameConstants& fc = in.fs.constants;
+    const int k = in.mesh.options().k;
+    const bool every_fragment = k == kEveryFragment;
+    const auto kbuffer_tiles = [&](const auto& program) {
+        raster_tiles(in, [&](const TileRect&) {
+            return KBufferTile<std::decay_t<decltype(program)>>{program, kbuf, fb, diag_at, width, k};
+        });
+    };
+    const auto pixel_sort_tiles = [&](const auto& shade_as) {
+        raster_tiles(in, [&](const TileRect& tile) {
+            return PixelSortTile<std::decay_t<decltype(shade_as)>>(tile, fc, fb, diag_at, width, shade_as,
+                                                                   in.mesh.options().ties == TieOrder::facing);
+        });
+    };
+    if (every_fragment && table_path) {
+        pixel_sort_tiles(*table_path);
+    } else if (every_fragment) {
+        pixel_sort_tiles(shade);
+    } else if (table_path && k == kbuffer_program::kPaperK) {
+        kbuffer_tiles([&](KEntry e, KEntry* entries, glm::vec4& colour, KBufferDiagnostics* d) {
+            return kbuffer_program::run<kbuffer_program::kPaperK>(fc, e, entries, k, colour, *table_path, d);
+        });
+    } else {
+        kbuffer_tiles([&](KEntry e, KEntry* entries, glm::vec4& colour, KBufferDiagnostics* d) {
+            return kbuffer_program::run<0>(fc, e, entries, k, colour, shade, d);
+        });
+    }
+}
+
 }  // namespace
 
 HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
@@ -288,36 +325,10 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     const SegmentShader shade =
         segment_shader(mesh_.table(), mesh_.options().filter, mesh_.integrator(), mesh_.range());
 
-    // Raster per tile. The paper's k with the table's usual path: the program instantiated with k fixed and the
-    // sample called directly (the same operations, so the same bits: tests/test_havs_kbuffer.cpp), which takes a tenth
-    // off the frame's raster+fragment time (docs/gl-backend.md, "Speed"). Anything else: the run-time instance.
-    // --k all: each pixel's fragments sorted once a tile (havs_pixel_sort.h), composited there.
+    // Raster per tile (raster_stage), the table's direct sample found first.
     t0 = Clock::now();
     const std::optional<TableSegmentShader> table_path = table_segment_shader(mesh_.table(), mesh_.options().filter);
-    const auto kbuffer_tiles = [&](const auto& program) {
-        raster_tiles(in, [&](const TileRect&) {
-            return KBufferTile<std::decay_t<decltype(program)>>{program, kbuf.data(), fb.data(), diag_at, width, k};
-        });
-    };
-    const auto pixel_sort_tiles = [&](const auto& shade_as) {
-        raster_tiles(in, [&](const TileRect& tile) {
-            return PixelSortTile<std::decay_t<decltype(shade_as)>>(tile, fc, fb.data(), diag_at, width, shade_as,
-                                                                   mesh_.options().ties == TieOrder::facing);
-        });
-    };
-    if (every_fragment && table_path) {
-        pixel_sort_tiles(*table_path);
-    } else if (every_fragment) {
-        pixel_sort_tiles(shade);
-    } else if (table_path && k == kbuffer_program::kPaperK) {
-        kbuffer_tiles([&](KEntry e, KEntry* entries, glm::vec4& colour, KBufferDiagnostics* d) {
-            return kbuffer_program::run<kbuffer_program::kPaperK>(fc, e, entries, k, colour, *table_path, d);
-        });
-    } else {
-        kbuffer_tiles([&](KEntry e, KEntry* entries, glm::vec4& colour, KBufferDiagnostics* d) {
-            return kbuffer_program::run<0>(fc, e, entries, k, colour, shade, d);
-        });
-    }
+    raster_stage(in, shade, table_path, kbuf.data(), fb.data(), diag_at, width);
     st.raster_fragment_ms = ms_since(t0);
 
     // Flush (--k all composited with each tile), with the table's direct sample where the program had it.

@@ -109,7 +109,7 @@ private:
     std::vector<double> scalar_n_;
     std::vector<uint32_t> faces_;
     std::vector<uint8_t> boundary_;
-    std::unique_ptr<PreintegrationTable> table_;
+    std::shared_ptr<const PreintegrationTable> table_;
     double table_ms_ = 0.0;
 };
 

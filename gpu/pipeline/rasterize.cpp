@@ -91,26 +91,91 @@ int32_t snap_to_fixed(float v)
     return static_cast<int32_t>(std::nearbyint(f));
 }
 
+namespace {
+
+// Fixed-point positions (calc_fixed_position). int32 in llvmpipe; int64 here so the products below cannot
+// overflow (see kMaxFixed). False when a position lies beyond kMaxFixed.
+bool fixed_positions(const WindowCoord v[3], int64_t x[3], int64_t y[3])
+{
+    for (int i = 0; i < 3; ++i) {
+        x[i] = snap_to_fixed(v[i].x);
+        y[i] = snap_to_fixed(v[i].y);
+        if (std::llabs(x[i]) > kMaxFixed || std::llabs(y[i]) > kMaxFixed) return false;
+    }
+    return true;
+}
+
+// The signed area in fixed point (calc_fixed_position): area = dx01 * dy20 - dx20 * dy01, products of int32
+// differences taken in 64 bits (IMUL64). It decides culling and facing; the float area plays no part, so a sliver
+// that snaps flat is dropped and one that snaps inverted changes its facing.
+int64_t fixed_area(const int64_t x[3], const int64_t y[3])
+{
+    const int64_t dx01 = x[0] - x[1], dy01 = y[0] - y[1];
+    const int64_t dx20 = x[2] - x[0], dy20 = y[2] - y[0];
+    return dx01 * dy20 - dx20 * dy01;
+}
+
+// do_triangle_ccw, the plane setup (the SSE branch computes the same values as the scalar one written out there):
+// for the edge from vertex i to vertex i + 1
+//     dcdx = y[i] - y[i+1],  dcdy = x[i] - x[i+1],  c = dcdx * x[i] - dcdy * y[i]   (64-bit products),
+// and the pixel at fixed position (X, Y) = 256 * (px, py) is inside the edge when
+//     c + dcdy * Y - dcdx * X > 0
+// (lp_rast_tri_tmp.h tests the sign bit of c - 1 + ..., i.e. >= 1). The fill convention turns "> 0" into ">= 0"
+// for the edges that own their boundary by adding 1 to c (c_dec in the SSE code):
+//   - dcdx < 0 (y increases along the edge of a ccw triangle: the interior lies at larger x): a left edge, in for
+//     both conventions;
+//   - dcdx == 0 (a horizontal edge): with bottom_edge_rule == 0 the edge with dcdy > 0, whose interior lies at
+//     larger y ("top" in Gallium's y-down naming); with bottom_edge_rule == 1 the edge with dcdy < 0, whose
+//     interior lies at smaller y.
+// In GL terms both targets thus own left edges and the edges with the interior above them (GL y up): an FBO keeps
+// GL's y and includes the smaller-y edge; a window buffer flips y and includes the larger-y edge of setup space,
+// which is again the lower one on screen.
+void edge_planes(const int64_t x[3], const int64_t y[3], bool bottom_edge_rule, TriangleSetup& s)
+{
+    for (int i = 0; i < 3; ++i) {
+        const int j = (i + 1) % 3;
+        s.dcdx[i] = y[i] - y[j];
+        s.dcdy[i] = x[i] - x[j];
+        s.c[i] = s.dcdx[i] * x[i] - s.dcdy[i] * y[i];
+        if (s.dcdx[i] < 0)
+            ++s.c[i];
+        else if (s.dcdx[i] == 0 && (bottom_edge_rule ? s.dcdy[i] < 0 : s.dcdy[i] > 0))
+            ++s.c[i];
+    }
+}
+
+// Bounding box in pixels (do_triangle_ccw): x0 inclusive, x1 = (max - 1) >> FIXED_ORDER; in y the same, shifted by
+// adj = bottom_edge_rule so that the row owned by the included horizontal edge is inside. The covered pixels are
+// exactly the bounding box's pixels that pass the three edge tests: the fill rule never covers a pixel whose centre
+// has the triangle's largest x (or the excluded extreme y), and tiles and 4x4 / 16x16 stamps are only an
+// acceleration whose trivial accept/reject tests are conservative (lp_setup_bin_triangle, lp_rast_tri_tmp.h).
+// Outside the framebuffer nothing is drawn: draw_regions is the framebuffer (no scissor), pixels left of or below
+// 0 are never visited, and scissor planes cut off the rest (lp_setup_add_scissor_planes).
+void bounding_box(const int64_t x[3], const int64_t y[3], bool bottom_edge_rule, const Framebuffer& fb,
+                  TriangleSetup& s)
+{
+    const int64_t adj = bottom_edge_rule ? 1 : 0;
+    const int64_t bx0 = fixed_floor(std::min({x[0], x[1], x[2]}));
+    const int64_t bx1 = fixed_floor(std::max({x[0], x[1], x[2]}) - 1);
+    const int64_t by0 = fixed_floor(std::min({y[0], y[1], y[2]}) + adj);
+    const int64_t by1 = fixed_floor(std::max({y[0], y[1], y[2]}) - 1 + adj);
+    s.x0 = int(std::max<int64_t>(bx0, 0));
+    s.y0 = int(std::max<int64_t>(by0, 0));
+    s.x1 = int(std::min<int64_t>(bx1, fb.width - 1));
+    s.y1 = int(std::min<int64_t>(by1, fb.height - 1));
+}
+
+}  // namespace
+
 TriangleSetup setup_triangle(const WindowCoord v[3], const Framebuffer& fb)
 {
     TriangleSetup s;
     if (fb.width <= 0 || fb.height <= 0 || fb.width > kMaxSide || fb.height > kMaxSide) return s;
 
-    // Fixed-point positions (calc_fixed_position). int32 in llvmpipe; int64 here so the products below cannot
-    // overflow (see kMaxFixed).
     int64_t x[3], y[3];
-    for (int i = 0; i < 3; ++i) {
-        x[i] = snap_to_fixed(v[i].x);
-        y[i] = snap_to_fixed(v[i].y);
-        if (std::llabs(x[i]) > kMaxFixed || std::llabs(y[i]) > kMaxFixed) return s;
-    }
+    if (!fixed_positions(v, x, y)) return s;
 
-    // The signed area in fixed point (calc_fixed_position): area = dx01 * dy20 - dx20 * dy01, products of int32
-    // differences taken in 64 bits (IMUL64). It decides culling and facing; the float area plays no part, so a sliver
-    // that snaps flat is dropped and one that snaps inverted changes its facing.
-    const int64_t dx01 = x[0] - x[1], dy01 = y[0] - y[1];
-    const int64_t dx20 = x[2] - x[0], dy20 = y[2] - y[0];
-    const int64_t area = dx01 * dy20 - dx20 * dy01;
+    const int64_t area = fixed_area(x, y);
     if (area == 0) return s;  // triangle_both: neither ccw nor cw, nothing is binned
 
     // area > 0 is what llvmpipe calls counter-clockwise: counter-clockwise with y pointing down, i.e. clockwise in a
@@ -134,48 +199,8 @@ TriangleSetup setup_triangle(const WindowCoord v[3], const Framebuffer& fb)
     // pipe_rasterizer_state.bottom_edge_rule: 1 for a window buffer (Y_0_TOP), 0 for an FBO (st_atom_rasterizer.c).
     const bool bottom_edge_rule = y_down;
 
-    // do_triangle_ccw, the plane setup (the SSE branch computes the same values as the scalar one written out there):
-    // for the edge from vertex i to vertex i + 1
-    //     dcdx = y[i] - y[i+1],  dcdy = x[i] - x[i+1],  c = dcdx * x[i] - dcdy * y[i]   (64-bit products),
-    // and the pixel at fixed position (X, Y) = 256 * (px, py) is inside the edge when
-    //     c + dcdy * Y - dcdx * X > 0
-    // (lp_rast_tri_tmp.h tests the sign bit of c - 1 + ..., i.e. >= 1). The fill convention turns "> 0" into ">= 0"
-    // for the edges that own their boundary by adding 1 to c (c_dec in the SSE code):
-    //   - dcdx < 0 (y increases along the edge of a ccw triangle: the interior lies at larger x): a left edge, in for
-    //     both conventions;
-    //   - dcdx == 0 (a horizontal edge): with bottom_edge_rule == 0 the edge with dcdy > 0, whose interior lies at
-    //     larger y ("top" in Gallium's y-down naming); with bottom_edge_rule == 1 the edge with dcdy < 0, whose
-    //     interior lies at smaller y.
-    // In GL terms both targets thus own left edges and the edges with the interior above them (GL y up): an FBO keeps
-    // GL's y and includes the smaller-y edge; a window buffer flips y and includes the larger-y edge of setup space,
-    // which is again the lower one on screen.
-    for (int i = 0; i < 3; ++i) {
-        const int j = (i + 1) % 3;
-        s.dcdx[i] = y[i] - y[j];
-        s.dcdy[i] = x[i] - x[j];
-        s.c[i] = s.dcdx[i] * x[i] - s.dcdy[i] * y[i];
-        if (s.dcdx[i] < 0)
-            ++s.c[i];
-        else if (s.dcdx[i] == 0 && (bottom_edge_rule ? s.dcdy[i] < 0 : s.dcdy[i] > 0))
-            ++s.c[i];
-    }
-
-    // Bounding box in pixels (do_triangle_ccw): x0 inclusive, x1 = (max - 1) >> FIXED_ORDER; in y the same, shifted by
-    // adj = bottom_edge_rule so that the row owned by the included horizontal edge is inside. The covered pixels are
-    // exactly the bounding box's pixels that pass the three edge tests: the fill rule never covers a pixel whose centre
-    // has the triangle's largest x (or the excluded extreme y), and tiles and 4x4 / 16x16 stamps are only an
-    // acceleration whose trivial accept/reject tests are conservative (lp_setup_bin_triangle, lp_rast_tri_tmp.h).
-    // Outside the framebuffer nothing is drawn: draw_regions is the framebuffer (no scissor), pixels left of or below
-    // 0 are never visited, and scissor planes cut off the rest (lp_setup_add_scissor_planes).
-    const int64_t adj = bottom_edge_rule ? 1 : 0;
-    const int64_t bx0 = fixed_floor(std::min({x[0], x[1], x[2]}));
-    const int64_t bx1 = fixed_floor(std::max({x[0], x[1], x[2]}) - 1);
-    const int64_t by0 = fixed_floor(std::min({y[0], y[1], y[2]}) + adj);
-    const int64_t by1 = fixed_floor(std::max({y[0], y[1], y[2]}) - 1 + adj);
-    s.x0 = int(std::max<int64_t>(bx0, 0));
-    s.y0 = int(std::max<int64_t>(by0, 0));
-    s.x1 = int(std::min<int64_t>(bx1, fb.width - 1));
-    s.y1 = int(std::min<int64_t>(by1, fb.height - 1));
+    edge_planes(x, y, bottom_edge_rule, s);
+    bounding_box(x, y, bottom_edge_rule, fb, s);
     return s;
 }
 

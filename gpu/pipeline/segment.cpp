@@ -1,10 +1,14 @@
 #include "gpu/pipeline/segment.h"
 
 #include <algorithm>
+#include <mutex>
+#include <utility>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
 #include "reference/timing.h"
+#include "reference/transfer_function.h"
 
 namespace uvr::gpu {
 
@@ -20,17 +24,82 @@ double longest_tet_edge(const TetMesh& mesh)
     return longest;
 }
 
-std::unique_ptr<PreintegrationTable> build_segment_table(const SegmentIntegrator& integrator, const Range& range,
-                                                         int size, TexelFormat format, double max_length, double& ms)
+namespace {
+
+// Everything a segment table depends on; two keys are equal exactly when the tables would be the same bits.
+struct TableKey {
+    std::vector<ColorNode> color;
+    std::vector<ExtinctionNode> extinction;
+    Range range;
+    int size = 0;
+    TexelFormat format = TexelFormat::f32;
+    double max_length = 0.0;
+
+    bool operator==(const TableKey& o) const
+    {
+        auto same_color = [](const ColorNode& a, const ColorNode& b) { return a.s == b.s && a.rgb == b.rgb; };
+        auto same_tau = [](const ExtinctionNode& a, const ExtinctionNode& b) { return a.s == b.s && a.tau == b.tau; };
+        return std::equal(color.begin(), color.end(), o.color.begin(), o.color.end(), same_color) &&
+               std::equal(extinction.begin(), extinction.end(), o.extinction.begin(), o.extinction.end(), same_tau) &&
+               range.lo == o.range.lo && range.hi == o.range.hi && size == o.size && format == o.format &&
+               max_length == o.max_length;
+    }
+};
+
+// The most recent table, its key and its build time. One entry: a sweep over k, an emulated frame beside its GL twin
+// and a budget's factor runs ask for the same table in a row, and a held table costs its size in memory.
+struct TableCache {
+    std::mutex mutex;
+    std::optional<TableKey> key;
+    std::shared_ptr<const PreintegrationTable> table;
+    double ms = 0.0;
+    std::size_t built = 0;
+};
+
+TableCache& table_cache()
 {
+    static TableCache cache;
+    return cache;
+}
+
+}  // namespace
+
+std::shared_ptr<const PreintegrationTable> build_segment_table(const SegmentIntegrator& integrator, const Range& range,
+                                                               int size, TexelFormat format, double max_length,
+                                                               double& ms)
+{
+    const TransferFunction& tf = integrator.transfer_function();
+    TableKey key{tf.color, tf.extinction, range, size, format, max_length};
+    TableCache& cache = table_cache();
+    {
+        const std::lock_guard<std::mutex> lock(cache.mutex);
+        if (cache.key && *cache.key == key) {
+            ms = cache.ms;
+            return cache.table;
+        }
+        cache.key.reset();
+        cache.table.reset();  // not held through the build: a process never holds two tables for the cache's sake
+    }
+    // Built outside the lock (the build runs TBB tasks); two threads asking at once build the same bits twice.
     const auto t0 = Clock::now();
     PreintegrationConfig cfg;
     cfg.scalar_resolution = cfg.length_resolution = size;
     cfg.format = format;
     cfg.max_length = max_length;
-    auto table = std::make_unique<PreintegrationTable>(integrator, range, cfg);
+    auto table = std::make_shared<const PreintegrationTable>(integrator, range, cfg);
     ms = ms_since(t0);
+    const std::lock_guard<std::mutex> lock(cache.mutex);
+    cache.key = std::move(key);
+    cache.table = table;
+    cache.ms = ms;
+    ++cache.built;
     return table;
+}
+
+std::size_t segment_tables_built()
+{
+    const std::lock_guard<std::mutex> lock(table_cache().mutex);
+    return table_cache().built;
 }
 
 std::optional<TableSegmentShader> table_segment_shader(const PreintegrationTable* table, TextureFilter filter)

@@ -30,9 +30,14 @@ using SegmentShader = std::function<glm::vec4(float u_front, float u_back, float
 // the longest edge of the mesh's non-degenerate tetrahedra (no segment inside one cell is longer: the table's range);
 double longest_tet_edge(const TetMesh& mesh);
 // the pre-integrated table of `integrator` over `range` with `size` texels per axis up to `max_length`, and the
-// milliseconds it took;
-std::unique_ptr<PreintegrationTable> build_segment_table(const SegmentIntegrator& integrator, const Range& range,
-                                                         int size, TexelFormat format, double max_length, double& ms);
+// milliseconds its build took. A table is a pure function of those inputs, so the process keeps the most recent one
+// and hands it to the next renderer that asks for the same inputs (the transfer function compared node by node); `ms`
+// is then the build's time, as when it was built (docs/tables.md, "Building a table once");
+std::shared_ptr<const PreintegrationTable> build_segment_table(const SegmentIntegrator& integrator, const Range& range,
+                                                               int size, TexelFormat format, double max_length,
+                                                               double& ms);
+// how many tables build_segment_table has built in this process (the ones it handed out again not counted).
+std::size_t segment_tables_built();
 // what a segment contributes: the table as llvmpipe samples it, or, without a table (--segment exact), the exact
 // integral in double of the segment between the normalized scalars.
 SegmentShader segment_shader(const PreintegrationTable* table, TextureFilter filter,

@@ -91,7 +91,7 @@ private:
     float scalar_scale_ = 1.0f, scalar_bias_ = 0.0f;
     SegmentIntegrator integrator_;
     std::unique_ptr<ClassificationTable> classification_;
-    std::unique_ptr<PreintegrationTable> table_;
+    std::shared_ptr<const PreintegrationTable> table_;
     double table_ms_ = 0.0;
 };
 

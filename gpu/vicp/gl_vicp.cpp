@@ -277,19 +277,11 @@ void GlVicpRenderer::draw_published(const VicpFrameSetup& fs, std::size_t begin,
     }
 }
 
-VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
+// The frame's buffers, the framebuffer cleared, the fixed-function state and each program's uniforms.
+void GlVicpRenderer::prepare_frame(const VicpFrameSetup& fs, const Camera& cam, int width, int height)
 {
-    static_assert(sizeof(glm::vec3) == 3 * sizeof(float) && sizeof(glm::dvec3) == 3 * sizeof(double),
-                  "points are uploaded as packed triples");
-    ctx_.make_current();
     const GlFunctions& gl = ctx_.gl();
-    VicpFrame out;
-    VicpStats& st = out.stats;
-    const VicpFrameSetup fs = setup_vicp_frame(mesh_, cam, width, height);
-    store_setup_stats(mesh_, fs, st);
     const bool published = mesh_.options().interpolation == InterpolationMode::gpu;
-
-    auto t0 = Clock::now();
     // The exact program's per-frame buffers (every cell with --interpolation exact, the cut cells alone with the
     // published program), read at any index by every draw.
     if (!published || !fs.cuts.empty()) {
@@ -327,8 +319,13 @@ VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
         gl.Uniform3f(sp.uniform("vicp_published_direction"), view.direction.x, view.direction.y, view.direction.z);
     }
     ctx_.check_error("preparing the VICP draw");
-    st.setup_ms = fs.vertex_ms + ms_since(t0);
+}
 
+// The stream's cells drawn in order (draw_exact, draw_published), then waited for.
+void GlVicpRenderer::draw_cells(const VicpFrameSetup& fs, VicpStats& st)
+{
+    const GlFunctions& gl = ctx_.gl();
+    const bool published = mesh_.options().interpolation == InterpolationMode::gpu;
     if (!published) {
         draw_exact(fs, 0, fs.stream.size(), st);
     } else {
@@ -346,21 +343,41 @@ VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
         }
         if (fs.stream.size() > slot) draw_published(fs, slot, fs.stream.size(), st);
     }
-    t0 = Clock::now();
+    const auto t0 = Clock::now();
     gl.Finish();
     ctx_.check_error("the VICP draw");
     st.raster_fragment_ms += ms_since(t0);
     gl.BindVertexArray(0);
+}
 
-    t0 = Clock::now();
+// Read back the colour and the diagnostics (counts as exact floats).
+void GlVicpRenderer::read_frame(int width, int height, VicpFrame& out)
+{
+    const auto t0 = Clock::now();
     const std::size_t npix = std::size_t(width) * std::size_t(height);
     const std::vector<glm::vec4> colour = gl_->framebuffer->read(0), diag = gl_->framebuffer->read(1);
-    st.readback_ms = ms_since(t0);
+    out.stats.readback_ms = ms_since(t0);
 
     std::vector<VicpDiagnostics> counts(npix);
     for (std::size_t p = 0; p < npix; ++p)
         counts[p] = {uint32_t(diag[p].x), uint32_t(diag[p].y), diag[p].z, diag[p].w};
     store_vicp_frame(colour, counts, width, height, out);
+}
+
+VicpFrame GlVicpRenderer::render(const Camera& cam, int width, int height)
+{
+    static_assert(sizeof(glm::vec3) == 3 * sizeof(float) && sizeof(glm::dvec3) == 3 * sizeof(double),
+                  "points are uploaded as packed triples");
+    ctx_.make_current();
+    VicpFrame out;
+    VicpStats& st = out.stats;
+    const VicpFrameSetup fs = setup_vicp_frame(mesh_, cam, width, height);
+    store_setup_stats(mesh_, fs, st);
+    const auto t0 = Clock::now();
+    prepare_frame(fs, cam, width, height);
+    st.setup_ms = fs.vertex_ms + ms_since(t0);
+    draw_cells(fs, st);
+    read_frame(width, height, out);
     return out;
 }
 

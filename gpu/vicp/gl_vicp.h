@@ -49,6 +49,10 @@ public:
 
 private:
     struct Objects;
+    // The frame's stages (render): the buffers, state and uniforms; the draws; the read-back.
+    void prepare_frame(const VicpFrameSetup& fs, const Camera& cam, int width, int height);
+    void draw_cells(const VicpFrameSetup& fs, VicpStats& st);
+    void read_frame(int width, int height, VicpFrame& out);
     void draw_exact(const VicpFrameSetup& fs, std::size_t begin, std::size_t end, VicpStats& st);
     void draw_published(const VicpFrameSetup& fs, std::size_t begin, std::size_t end, VicpStats& st);
     GlContext& ctx_;

@@ -160,39 +160,34 @@ private:
     std::vector<uint32_t> ids_;
 };
 
-}  // namespace
-
-VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& cam, int width, int height)
+// The pixels' rays in the mesh's centred frame, the opacity kill and the table's length scale.
+VicpFrameConstants frame_constants(const VicpMesh& vm, const Camera& cam, int width, int height)
 {
-    VicpFrameSetup fs;
-    fs.camera = cam;
-    fs.width = width;
-    fs.height = height;
-    const auto& mesh = vm.mesh();
-    const std::size_t npts = mesh.points.size();
-
-    // The pixels' rays in the mesh's centred frame.
-    auto t0 = Clock::now();
-    VicpFrameConstants& fc = fs.constants;
-    const CameraFrame cf = camera_frame(cam);
+    VicpFrameConstants fc;
     static_cast<PixelRays&>(fc) = pixel_rays(cam, width, height, vm.origin());
     fc.threshold = vm.options().threshold;
     if (const PreintegrationTable* table = vm.table()) {
         fc.length_scale = table->length_scale();
         fc.length_bias = table->length_bias();
     }
-    // The vertex stage's positions (as HAVS's: the frame's vertex buffer relative to the eye, float clip coordinates,
-    // llvmpipe's viewport transform). Snapping: each point at its own depth along the view direction, moved to the
-    // ray through its snapped window position (fixed value 256 * p is pixel p's centre, rasterize.h). Then which of
-    // the clip stage's planes each point, so moved, lies outside of.
-    fs.view = view_setup(cam, width, height, mesh_bounds(mesh), cam.eye);
-    const Framebuffer fbuf{width, height, RenderTarget::fbo};
+    return fc;
+}
+
+// The vertex stage's positions (as HAVS's: the frame's vertex buffer relative to the eye, float clip coordinates,
+// llvmpipe's viewport transform). Snapping: each point at its own depth along the view direction, moved to the ray
+// through its snapped window position (fixed value 256 * p is pixel p's centre, rasterize.h). Then which of the clip
+// stage's planes each point, so moved, lies outside of (`clipper` reads `moved` and `codes`).
+void vertex_stage(const VicpMesh& vm, const Camera& cam, const CameraFrame& cf, const VicpClipper& clipper,
+                  VicpFrameSetup& fs, std::vector<glm::dvec3>& moved, std::vector<uint8_t>& codes,
+                  std::vector<uint8_t>& gpu_outside)
+{
+    const auto& mesh = vm.mesh();
+    const std::size_t npts = mesh.points.size();
+    const VicpFrameConstants& fc = fs.constants;
+    const Framebuffer fbuf{fs.width, fs.height, RenderTarget::fbo};
     fs.points_f.resize(npts);
     fs.win.resize(npts);
     fs.snapped.resize(npts);
-    std::vector<glm::dvec3> moved(npts);  // relative to the eye
-    std::vector<uint8_t> codes(npts), gpu_outside(npts);
-    const VicpClipper clipper(fs.view, width, height, moved, codes);  // reads moved and codes, filled below
     tbb::parallel_for(std::size_t(0), npts, [&](std::size_t i) {
         fs.points_f[i] = glm::vec3(mesh.points[i] - cam.eye);
         const auto clip = clip_position(fs.view.mvp, fs.points_f[i]);
@@ -212,22 +207,28 @@ VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& cam, int width
         moved[i] = fs.snapped[i] - fc.eye;
         codes[i] = uint8_t(outcode(clipper.planes(), clip_vertex(fs.view, moved[i], 0.0).c));
     });
-    fs.vertex_ms = ms_since(t0);
+}
 
-    // The cell order.
-    t0 = Clock::now();
+// The cell order: by centroid, or MPVONC's (which starts from the centroid order).
+void cell_order_stage(const VicpMesh& vm, const Camera& cam, const CameraFrame& cf, const VicpClipper& clipper,
+                      VicpFrameSetup& fs)
+{
+    const auto& mesh = vm.mesh();
+    const VicpFrameConstants& fc = fs.constants;
     std::vector<uint32_t> centroid;
     centroid_cell_order(fs.points_f, mesh.tets, glm::vec3(0.0f), glm::vec3(cf.f), centroid);
     if (vm.options().order == CellOrder::centroid) {
         fs.order = std::move(centroid);
     } else {
-        const CellOrderFrame frame{&cam, vm.origin(), &fc, &fs.win, &fs.snapped, &clipper, width, height};
+        const CellOrderFrame frame{&cam, vm.origin(), &fc, &fs.win, &fs.snapped, &clipper, fs.width, fs.height};
         mpvonc_cell_order(mesh, vm.topology(), frame, centroid, fs.order, fs.order_stats);
     }
-    fs.sort_ms = ms_since(t0);
+}
 
-    // ProjectTet: the drawn cells in order; the clip stage for those the view cuts.
-    t0 = Clock::now();
+// ProjectTet: the drawn cells in order; the clip stage for those the view cuts.
+void project_stage(const VicpMesh& vm, const VicpClipper& clipper, const std::vector<uint8_t>& codes,
+                   const std::vector<uint8_t>& gpu_outside, VicpFrameSetup& fs)
+{
     fs.stream.reserve(vm.drawn_cells());
     FrameFans fans(fs, gpu_outside);
     std::vector<ClipVertex> poly, scratch;
@@ -265,6 +266,36 @@ VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& cam, int width
         fs.cuts.push_back({slot, first, uint32_t(fs.fan_triangles()) - first});
         ++fs.clipped_cells;
     }
+}
+
+}  // namespace
+
+VicpFrameSetup setup_vicp_frame(const VicpMesh& vm, const Camera& cam, int width, int height)
+{
+    VicpFrameSetup fs;
+    fs.camera = cam;
+    fs.width = width;
+    fs.height = height;
+    const auto& mesh = vm.mesh();
+    const std::size_t npts = mesh.points.size();
+
+    // The frame's constants and view, then the vertex stage; the clipper serves it, the cell order and ProjectTet.
+    auto t0 = Clock::now();
+    const CameraFrame cf = camera_frame(cam);
+    fs.constants = frame_constants(vm, cam, width, height);
+    fs.view = view_setup(cam, width, height, mesh_bounds(mesh), cam.eye);
+    std::vector<glm::dvec3> moved(npts);  // relative to the eye
+    std::vector<uint8_t> codes(npts), gpu_outside(npts);
+    const VicpClipper clipper(fs.view, width, height, moved, codes);  // reads moved and codes, filled below
+    vertex_stage(vm, cam, cf, clipper, fs, moved, codes, gpu_outside);
+    fs.vertex_ms = ms_since(t0);
+
+    t0 = Clock::now();
+    cell_order_stage(vm, cam, cf, clipper, fs);
+    fs.sort_ms = ms_since(t0);
+
+    t0 = Clock::now();
+    project_stage(vm, clipper, codes, gpu_outside, fs);
     fs.project_ms = ms_since(t0);
     return fs;
 }

@@ -83,7 +83,7 @@ private:
     std::vector<uint8_t> orientation_;  // per cell: 0 not drawn, 1 as it is, 2 vertices 2 and 3 swapped
     std::vector<uint8_t> boundary_;     // per cell: bit i, the face opposite point i is a boundary face
     std::size_t drawn_ = 0;
-    std::unique_ptr<PreintegrationTable> table_;
+    std::shared_ptr<const PreintegrationTable> table_;
     double table_ms_ = 0.0;
 };
 
