@@ -6,7 +6,6 @@
 namespace uvr {
 
 namespace {
-constexpr double kSqrtPi = 1.77245385090551602730;
 constexpr double kInvSqrtPi = 0.56418958354775628695;
 
 // exp(x * x) without amplifying the rounding of x * x: hi + lo == x * x exactly.
