@@ -342,12 +342,8 @@ HavsFrame GlHavsRenderer::render(const Camera& cam, int width, int height)
     ctx_.make_current();
     HavsFrame out;
     HavsStats& st = out.stats;
-    st.table_ms = mesh_.table_ms();
-    st.faces = mesh_.face_count();
     // CPU stage: sort, vertex stage, clip stage; then the frame's buffers and uniforms.
-    const HavsFrameSetup fs = setup_havs_frame(mesh_, cam, width, height);
-    st.sort_ms = fs.sort_ms;
-    store_clip_stats(fs, st);
+    const HavsFrameSetup fs = begin_havs_frame(mesh_, cam, width, height, st);
     const auto t0 = Clock::now();
     prepare_frame(fs, width, height);
     st.setup_ms = fs.vertex_ms + fs.clip_ms + ms_since(t0);

@@ -93,13 +93,18 @@ void store_havs_frame(const glm::vec4* colour, const std::vector<KBufferDiagnost
     });
 }
 
-void store_clip_stats(const HavsFrameSetup& fs, HavsStats& st)
+HavsFrameSetup begin_havs_frame(const HavsMesh& mesh, const Camera& cam, int width, int height, HavsStats& st)
 {
+    st.table_ms = mesh.table_ms();
+    st.faces = mesh.face_count();
+    HavsFrameSetup fs = setup_havs_frame(mesh, cam, width, height);
+    st.sort_ms = fs.sort_ms;
     st.clipped_faces = fs.clipped_faces;
     st.culled_faces = fs.culled_faces;
     st.near_sections = fs.near_sections;
     st.gpu_clipped = fs.gpu_clipped;
     st.triangles = fs.draw.size();
+    return fs;
 }
 
 HavsRenderer::HavsRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
@@ -290,14 +295,9 @@ HavsFrame HavsRenderer::render(const Camera& cam, int width, int height) const
     if (!every_fragment) check_kbuffer_memory(k, width, height);
     HavsFrame out;
     HavsStats& st = out.stats;
-    st.table_ms = mesh_.table_ms();
-    st.faces = mesh_.face_count();
-
     // Set-up: the sorted faces, the vertex stage, the frame's constants; the tiles.
-    const HavsFrameSetup fs = setup_havs_frame(mesh_, cam, width, height);
+    const HavsFrameSetup fs = begin_havs_frame(mesh_, cam, width, height, st);
     const HavsFrameConstants& fc = fs.constants;
-    st.sort_ms = fs.sort_ms;
-    store_clip_stats(fs, st);
     auto t0 = Clock::now();
     ScreenTiles tiles(width, height);
     bin_triangles(mesh_, fs, tiles);

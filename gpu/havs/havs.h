@@ -49,8 +49,9 @@ struct HavsFrame {
 void store_havs_frame(const glm::vec4* colour, const std::vector<KBufferDiagnostics>* diagnostics,
                       int width, int height, HavsFrame& out);
 
-// The clip stage's counts into the frame's statistics, for both backends.
-void store_clip_stats(const HavsFrameSetup& fs, HavsStats& st);
+// The start of a frame, for every backend: the CPU stage (setup_havs_frame) and what it tells the frame's statistics
+// (the table's build time, the faces, the sort's time, the clip stage's counts).
+HavsFrameSetup begin_havs_frame(const HavsMesh& mesh, const Camera& cam, int width, int height, HavsStats& st);
 
 class HavsRenderer {
 public:
