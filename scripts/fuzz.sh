@@ -23,16 +23,7 @@ targets=("$@")
 data="${UVR_DATA_DIR:-$root/data}"
 out="$root/build-fuzz"
 
-# clang 14 and its libFuzzer/sanitizer runtimes (Debian 12); installed only when missing.
-need=()
-command -v clang++ >/dev/null || need+=(clang)
-clang_rt=$(clang++ -print-resource-dir 2>/dev/null || true)
-ls "$clang_rt"/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1 || need+=(libclang-rt-14-dev)
-if [ ${#need[@]} -gt 0 ]; then
-  echo "fuzz: installing ${need[*]}"
-  export DEBIAN_FRONTEND=noninteractive
-  apt-get update -qq && apt-get install -y -qq --no-install-recommends "${need[@]}" clang
-fi
+# clang 14 and its libFuzzer/sanitizer runtimes (Debian 12) come with the rest (install-deps.sh).
 bash scripts/install-deps.sh
 
 if [ "${UVR_FUZZ_SKIP_BUILD:-0}" != 1 ]; then
