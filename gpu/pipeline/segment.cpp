@@ -50,7 +50,7 @@ struct TableKey {
 // and a budget's factor runs ask for the same table in a row, and a held table costs its size in memory.
 struct TableCache {
     std::mutex mutex;
-    std::optional<TableKey> key;
+    TableKey key;  // the inputs of `table`, when there is one
     std::shared_ptr<const PreintegrationTable> table;
     double ms = 0.0;
     std::size_t built = 0;
@@ -73,11 +73,10 @@ std::shared_ptr<const PreintegrationTable> build_segment_table(const SegmentInte
     TableCache& cache = table_cache();
     {
         const std::lock_guard<std::mutex> lock(cache.mutex);
-        if (cache.key && *cache.key == key) {
+        if (cache.table && cache.key == key) {
             ms = cache.ms;
             return cache.table;
         }
-        cache.key.reset();
         cache.table.reset();  // not held through the build: a process never holds two tables for the cache's sake
     }
     // Built outside the lock (the build runs TBB tasks); two threads asking at once build the same bits twice.
