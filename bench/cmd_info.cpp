@@ -132,7 +132,7 @@ void register_info(CLI::App& app)
         print_warnings(d);
         nlohmann::json j = d.mesh ? describe_mesh(*d.mesh) : describe_volume(*d.volume);
         j["file"] = in->path;
-        if (!d.info.is_null()) j["format"] = d.info;
+        if (!d.info_json.empty()) j["format"] = nlohmann::json::parse(d.info_json);
         j["warnings"] = d.warnings;
         if (*json)
             std::printf("%s\n", j.dump(1).c_str());

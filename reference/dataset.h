@@ -10,8 +10,6 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "reference/mesh.h"
 #include "reference/volume.h"
 
@@ -31,8 +29,9 @@ struct Dataset {
     std::optional<TetMesh> mesh;
     std::optional<Volume> volume;
     std::vector<std::string> warnings;
-    // What a format says of itself beyond the mesh, for `uvr info` (Exodus II: its blocks, sets, variables, times).
-    nlohmann::json info;
+    // What a format says of itself beyond the mesh, for `uvr info` (Exodus II: its blocks, sets, variables, times), as
+    // the text of a JSON object; empty when the format says nothing more.
+    std::string info_json;
 };
 
 Dataset load_dataset(const std::string& path, const LoadOptions& options = {});

@@ -4,7 +4,7 @@
 // Element blocks of tetrahedra, hexahedra, wedges and pyramids (higher-order ones by their corner nodes) become one
 // UnstructuredCells, split by tetrahedralize_cells(); blocks of 0D/1D/2D elements are skipped with a warning and an
 // unknown element type is refused. Nodal variables become point fields and element variables cell fields, at one time
-// step ("last" or an index from 1). Node and side sets are listed in Dataset::info and otherwise skipped.
+// step ("last" or an index from 1). Node and side sets are listed in Dataset::info_json and otherwise skipped.
 //
 // The library is made quiet (ex_opts(0)) and each failing call becomes an InputError naming the file and what could
 // not be read. Before the library sees the file it is checked here, because libexodusii 6.02 trusts it: a file cut
@@ -22,6 +22,7 @@
 
 #include <exodusII.h>
 #include <netcdf.h>
+#include <nlohmann/json.hpp>
 
 #include "reference/cells.h"
 #include "reference/error.h"
@@ -48,7 +49,7 @@ std::string brief(std::string_view s)
 }
 
 // Text from the file (names, the title) as valid UTF-8 without control characters, each offending byte replaced by
-// '?': it goes into messages and into Dataset::info, and JSON refuses invalid UTF-8.
+// '?': it goes into messages and into Dataset::info_json, and JSON refuses invalid UTF-8.
 std::string clean_text(std::string_view s)
 {
     std::string out;
@@ -656,7 +657,7 @@ Dataset read_exodus(const std::string& path, const std::string& time_step)
     }
 
     Dataset out;
-    nlohmann::json& info = out.info;
+    nlohmann::json info;
     info["format"] = "Exodus II";
     info["title"] = clean_text(init.title);
     info["blocks"] = nlohmann::json::array();
@@ -669,6 +670,7 @@ Dataset read_exodus(const std::string& path, const std::string& time_step)
     info["element_variables"] = element;
     info["times"] = times;
     info["time_step"] = step > 0 ? nlohmann::json(step) : nlohmann::json(nullptr);
+    out.info_json = info.dump();
     out.mesh = tetrahedralize_cells(cells, f.warnings);
     out.warnings = std::move(f.warnings);
     return out;
