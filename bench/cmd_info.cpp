@@ -6,6 +6,7 @@
 #include "bench/options.h"
 #include "bench/commands.h"
 #include "reference/field.h"
+#include "reference/partition.h"
 #include "reference/topology.h"
 
 namespace uvr::cli {
@@ -14,11 +15,21 @@ namespace {
 
 nlohmann::json vec3(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 
-nlohmann::json describe_mesh(const TetMesh& mesh)
+nlohmann::json describe_parts(const MeshTopology& topo, const std::vector<uint32_t>& piece_of_cell)
+{
+    nlohmann::json parts = nlohmann::json::array();
+    for (const PartCounts& c : count_parts(topo, piece_of_cell))
+        parts.push_back({{"tetrahedra", c.tetrahedra}, {"boundary_faces", c.boundary_faces}, {"cut_faces", c.cut_faces}});
+    return parts;
+}
+
+// `piece_of_cell`: a file of pieces (.pvtu) is also described piece by piece.
+nlohmann::json describe_mesh(const TetMesh& mesh, const std::vector<uint32_t>& piece_of_cell)
 {
     const MeshTopology topo = build_topology(mesh);
-    const Bounds b = mesh_bounds(mesh);
     nlohmann::json j;
+    if (!piece_of_cell.empty()) j["parts"] = describe_parts(topo, piece_of_cell);
+    const Bounds b = mesh_bounds(mesh);
     j["kind"] = "tetrahedral mesh";
     j["points"] = mesh.points.size();
     j["tetrahedra"] = mesh.tets.size();
@@ -108,6 +119,12 @@ void print_text(const nlohmann::json& j)
                 lo[1].get<double>(), hi[1].get<double>(), lo[2].get<double>(), hi[2].get<double>());
     if (j["fields"].empty()) std::printf("  fields       none\n");
     if (j.contains("format")) print_format(j["format"]);
+    if (j.contains("parts"))
+        for (std::size_t p = 0; p < j["parts"].size(); ++p)
+            std::printf("  part %-7zu %zu tetrahedra, %zu boundary faces, %zu cut faces\n", p,
+                        j["parts"][p]["tetrahedra"].get<std::size_t>(),
+                        j["parts"][p]["boundary_faces"].get<std::size_t>(),
+                        j["parts"][p]["cut_faces"].get<std::size_t>());
     for (const auto& f : j["fields"]) {
         std::printf("  field        %-20s [%.9g, %.9g]", f["name"].get<std::string>().c_str(), f["min"].get<double>(),
                     f["max"].get<double>());
@@ -130,7 +147,7 @@ void register_info(CLI::App& app)
     cmd->callback([in, json] {
         const Dataset d = load_input(*in);
         print_warnings(d);
-        nlohmann::json j = d.mesh ? describe_mesh(*d.mesh) : describe_volume(*d.volume);
+        nlohmann::json j = d.mesh ? describe_mesh(*d.mesh, d.piece_of_cell) : describe_volume(*d.volume);
         j["file"] = in->path;
         if (!d.info_json.empty()) j["format"] = nlohmann::json::parse(d.info_json);
         j["warnings"] = d.warnings;

@@ -24,6 +24,7 @@ int run_program(int argc, char** argv)
     register_compare(app);
     register_sweep(app);
     register_budget(app);
+    register_partition(app);
     register_demo(app);
     try {
         app.parse(argc, argv);

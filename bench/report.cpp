@@ -15,21 +15,6 @@ nlohmann::json measures_json(const ErrorMeasures& e)
             {"visible_fraction", e.visible_fraction}, {"covered_left_empty", e.covered_left_empty}};
 }
 
-std::string html_escape(const std::string& s)
-{
-    std::string o;
-    for (char c : s) {
-        switch (c) {
-        case '&': o += "&amp;"; break;
-        case '<': o += "&lt;"; break;
-        case '>': o += "&gt;"; break;
-        case '"': o += "&quot;"; break;
-        default: o += c;
-        }
-    }
-    return o;
-}
-
 std::string load_check_script()
 {
     // Marks the body once the page has loaded: how many images it has and which failed, so a headless browser can
@@ -91,7 +76,7 @@ void write_compare_page(const std::string& dir, const nlohmann::json& m)
 {
     std::string h = R"(<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>uvr compare: )" +
-                    html_escape(m["mesh"].get<std::string>()) + R"(</title>
+                    escape_markup(m["mesh"].get<std::string>()) + R"(</title>
 <style>
 body { font-family: sans-serif; margin: 1.5em; background: #fafafa; color: #222; }
 table { border-collapse: collapse; }
@@ -100,8 +85,8 @@ th:first-child, td:first-child { text-align: left; }
 img { image-rendering: pixelated; width: 256px; background: #000; }
 </style></head><body>
 )";
-    h += "<h1>uvr compare</h1>\n<p>" + html_escape(m["mesh"].get<std::string>()) + ", field <b>" +
-         html_escape(m["field"].get<std::string>()) + "</b>, " + std::to_string(m["width"].get<int>()) + " &times; " +
+    h += "<h1>uvr compare</h1>\n<p>" + escape_markup(m["mesh"].get<std::string>()) + ", field <b>" +
+         escape_markup(m["field"].get<std::string>()) + "</b>, " + std::to_string(m["width"].get<int>()) + " &times; " +
          std::to_string(m["height"].get<int>()) +
          " pixels. Errors are measured against the reference over every "
          "pixel and the four premultiplied channels (docs/spec.md &sect;4); &ldquo;visible&rdquo; is the fraction of "
@@ -115,14 +100,14 @@ img { image-rendering: pixelated; width: 256px; background: #000; }
         // An image made elsewhere says where it came from, and when it had no alpha that only colour was compared.
         std::string note;
         if (outside)
-            note = "<br><small>" + html_escape(r["source"].get<std::string>()) +
+            note = "<br><small>" + escape_markup(r["source"].get<std::string>()) +
                    (r["colour_only"].get<bool>() ? "<br>colour only (no alpha): RGB against the reference over black"
                                                  : "") + "</small>";
-        h += "<tr><td>" + html_escape(label) + note + "</td><td><img src=\"" + html_escape(r["image"].get<std::string>()) +
-             "\" alt=\"" + html_escape(label) + "\"></td><td>";
+        h += "<tr><td>" + escape_markup(label) + note + "</td><td><img src=\"" + escape_markup(r["image"].get<std::string>()) +
+             "\" alt=\"" + escape_markup(label) + "\"></td><td>";
         if (r.contains("error_map"))
-            h += "<img src=\"" + html_escape(r["error_map"].get<std::string>()) + "\" alt=\"error of " +
-                 html_escape(label) + "\">";
+            h += "<img src=\"" + escape_markup(r["error_map"].get<std::string>()) + "\" alt=\"error of " +
+                 escape_markup(label) + "\">";
         h += "</td><td>" + number(r["rmse"], "%.3g") + "</td><td>" + number(r["max_abs"], "%.3g") + "</td><td>" +
              number(r["psnr"], "%.1f") + "</td><td>" + number(r["visible_fraction"], "%.4f") + "</td><td>" +
              (outside ? std::string("made elsewhere") : r["cached"].get<bool>() ? std::string("cached")
@@ -137,12 +122,12 @@ img { image-rendering: pixelated; width: 256px; background: #000; }
 void write_sweep_page(const std::string& dir, const nlohmann::json& w, bool plots)
 {
     std::string h = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>uvr sweep: " +
-                    html_escape(w["mesh"].get<std::string>()) +
+                    escape_markup(w["mesh"].get<std::string>()) +
                     "</title>\n<style>body { font-family: sans-serif; margin: 1.5em; background: #fafafa; color: #222; }"
                     " table { border-collapse: collapse; } th, td { padding: 0.4em 0.8em; border-bottom: 1px solid "
                     "#ddd; text-align: right; } img { max-width: 48%; }</style></head><body>\n";
-    h += "<h1>uvr sweep: HAVS error against k</h1>\n<p>" + html_escape(w["mesh"].get<std::string>()) + ", field <b>" +
-         html_escape(w["field"].get<std::string>()) + "</b>, " + std::to_string(w["width"].get<int>()) + " &times; " +
+    h += "<h1>uvr sweep: HAVS error against k</h1>\n<p>" + escape_markup(w["mesh"].get<std::string>()) + ", field <b>" +
+         escape_markup(w["field"].get<std::string>()) + "</b>, " + std::to_string(w["width"].get<int>()) + " &times; " +
          std::to_string(w["height"].get<int>()) + ". <i>Sorting error</i>: HAVS with exact segment integration "
          "against the reference. <i>Total</i>: HAVS with the pre-integrated table. <i>Table error</i>: table against "
          "exact at the largest k, where sorting no longer errs.</p>\n";
@@ -192,9 +177,9 @@ void write_sweep_page(const std::string& dir, const nlohmann::json& w, bool plot
             char buf[256];
             const std::string dominant = r["dominant"].get<std::string>();
             std::snprintf(buf, sizeof buf, "<tr><td>%d</td><td>%d</td><td>%s</td><td>%.3g</td><td>%.3g</td>",
-                          r["view"].get<int>(), r["k"].get<int>(), html_escape(dominant).c_str(),
+                          r["view"].get<int>(), r["k"].get<int>(), escape_markup(dominant).c_str(),
                           r["factors"][dominant].get<double>(), r["total"].get<double>());
-            h += std::string(buf) + "<td><a href=\"" + html_escape(r["page"].get<std::string>()) + "\">page</a>" +
+            h += std::string(buf) + "<td><a href=\"" + escape_markup(r["page"].get<std::string>()) + "\">page</a>" +
                  (r["baseline_ok"].get<bool>() ? "" : " (baseline not exact)") + "</td></tr>\n";
         }
         h += "</table>\n";
@@ -224,50 +209,50 @@ void write_demo_page(const std::string& dir, const nlohmann::json& page)
                   page["mesh"]["points"].get<std::size_t>(), page["mesh"]["tetrahedra"].get<std::size_t>());
     html += buf;
     for (const auto& part : page["parts"]) {
-        const std::string title = html_escape(part["title"].get<std::string>());
+        const std::string title = escape_markup(part["title"].get<std::string>());
         if (part.contains("unavailable")) {
             html += "<h2>" + title + "</h2>\n<p class=\"na\">Not run on this machine: " +
-                    html_escape(part["unavailable"].get<std::string>()) + "</p>\n";
+                    escape_markup(part["unavailable"].get<std::string>()) + "</p>\n";
             continue;
         }
-        html += "<h2><a href=\"" + html_escape(part["page"].get<std::string>()) + "\">" + title + "</a></h2>\n";
+        html += "<h2><a href=\"" + escape_markup(part["page"].get<std::string>()) + "\">" + title + "</a></h2>\n";
         html += "<table><tr><th></th><th>image</th><th>RMSE</th><th>largest error</th><th>visible</th>"
                 "<th>emulated twin</th></tr>\n";
         for (const auto& r : part["results"]) {
             std::string twin = "&mdash;";
             if (r.contains("same_bits"))
                 twin = r["same_bits"].get<bool>()
-                           ? "<span class=\"same\">same bits</span> as " + html_escape(r["same_bits_as"].get<std::string>())
+                           ? "<span class=\"same\">same bits</span> as " + escape_markup(r["same_bits_as"].get<std::string>())
                            : "<span class=\"differs\">differs</span> from " +
-                                 html_escape(r["same_bits_as"].get<std::string>());
+                                 escape_markup(r["same_bits_as"].get<std::string>());
             std::snprintf(buf, sizeof buf, "<td>%.3g</td><td>%.3g</td><td>%.4f</td>", r["rmse"].get<double>(),
                           r["max_abs"].get<double>(), r["visible_fraction"].get<double>());
-            const std::string image = html_escape(r["image"].get<std::string>());
-            html += "<tr><td>" + html_escape(r["label"].get<std::string>()) + "</td><td><a href=\"" + image +
-                    "\"><img src=\"" + image + "\" alt=\"" + html_escape(r["label"].get<std::string>()) +
+            const std::string image = escape_markup(r["image"].get<std::string>());
+            html += "<tr><td>" + escape_markup(r["label"].get<std::string>()) + "</td><td><a href=\"" + image +
+                    "\"><img src=\"" + image + "\" alt=\"" + escape_markup(r["label"].get<std::string>()) +
                     "\"></a></td>" + buf + "<td>" + twin + "</td></tr>\n";
         }
         html += "</table>\n";
     }
-    html += "<h2><a href=\"" + html_escape(page["sweep"].get<std::string>()) +
+    html += "<h2><a href=\"" + escape_markup(page["sweep"].get<std::string>()) +
             "\">Error against the k-buffer's size (uvr sweep)</a></h2>\n<p>HAVS on the small torus, k = 1 to 16, three "
             "views: how the error falls as the k-buffer grows.</p>\n";
     if (page.contains("sweep_plot"))
-        html += "<p><img class=\"plot\" src=\"" + html_escape(page["sweep_plot"].get<std::string>()) +
+        html += "<p><img class=\"plot\" src=\"" + escape_markup(page["sweep_plot"].get<std::string>()) +
                 "\" alt=\"error against k\"></p>\n";
     if (page.contains("budgets")) {
         html += "<h2>Where the error comes from (uvr budget)</h2>\n<p>Each algorithm with every switch exact, then with "
                 "one cause at a time set back to its default: sorting, the table, the rasterizer's interpolation and "
                 "coverage, early termination.</p>\n<ul>\n";
         for (const auto& b : page["budgets"])
-            html += "<li><a href=\"" + html_escape(b["page"].get<std::string>()) + "\">" +
-                    html_escape(b["title"].get<std::string>()) + "</a></li>\n";
+            html += "<li><a href=\"" + escape_markup(b["page"].get<std::string>()) + "\">" +
+                    escape_markup(b["title"].get<std::string>()) + "</a></li>\n";
         html += "</ul>\n";
         for (const auto& b : page["budgets"])
             if (b.contains("chart"))
-                html += "<figure><img class=\"plot\" src=\"" + html_escape(b["chart"].get<std::string>()) +
-                        "\" alt=\"" + html_escape(b["title"].get<std::string>()) + "\"><figcaption>" +
-                        html_escape(b["title"].get<std::string>()) + "</figcaption></figure>\n";
+                html += "<figure><img class=\"plot\" src=\"" + escape_markup(b["chart"].get<std::string>()) +
+                        "\" alt=\"" + escape_markup(b["title"].get<std::string>()) + "\"><figcaption>" +
+                        escape_markup(b["title"].get<std::string>()) + "</figcaption></figure>\n";
     }
     html += load_check_script() + "</body></html>\n";
     write_file_atomically(dir + "/index.html", html);

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "reference/error_measures.h"
+#include "reference/io_util.h"  // escape_markup
 
 namespace uvr::cli {
 
@@ -34,7 +35,5 @@ std::string load_check_script();
 // The inferno legend of the error heat maps as an inline CSS gradient with its logarithmic ticks.
 std::string heat_legend_html();
 
-// Escapes &, <, >, " for HTML text and attributes.
-std::string html_escape(const std::string& s);
 
 }  // namespace uvr::cli

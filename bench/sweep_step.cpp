@@ -123,8 +123,8 @@ nlohmann::json run_step_sweep(Scene& s, const AlgoOptions& o, std::vector<double
     std::string html =
         "<!doctype html><meta charset=utf-8><title>uvr sweep --step</title>"
         "<h1>Ray caster: error against the step</h1><p>" +
-        html_escape(v.source) + ", " + std::to_string(s.width) + "x" + std::to_string(s.height) + ", backend " +
-        html_escape(o.backend) +
+        escape_markup(v.source) + ", " + std::to_string(s.width) + "x" + std::to_string(s.height) + ", backend " +
+        escape_markup(o.backend) +
         ". Error against the regular-grid reference (docs/spec.md §4).</p><table border=1 cellpadding=4>"
         "<tr><th>view<th>classification<th>step<th>RMSE<th>max abs<th>PSNR<th>visible<th>samples<th>ms";
     for (const auto& r : out["rows"]) {
@@ -145,9 +145,9 @@ nlohmann::json run_step_sweep(Scene& s, const AlgoOptions& o, std::vector<double
             char row[256];
             const std::string dominant = r["dominant"].get<std::string>();
             std::snprintf(row, sizeof row, "<tr><td>%d<td>%.6g<td>%s<td>%.3g<td>%.3g", r["view"].get<int>(),
-                          r["step"].get<double>(), html_escape(dominant).c_str(), r["factors"][dominant].get<double>(),
+                          r["step"].get<double>(), escape_markup(dominant).c_str(), r["factors"][dominant].get<double>(),
                           r["total"].get<double>());
-            html += std::string(row) + "<td><a href=\"" + html_escape(r["page"].get<std::string>()) + "\">page</a>";
+            html += std::string(row) + "<td><a href=\"" + escape_markup(r["page"].get<std::string>()) + "\">page</a>";
         }
         html += "</table>\n";
     }

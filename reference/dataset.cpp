@@ -22,6 +22,7 @@ Dataset load_dataset(const std::string& path, const LoadOptions& options)
     if (!options.q_file.empty()) return read_plot3d(path, options.q_file);
     if (ext == ".vtk") return read_vtk_legacy(path);
     if (ext == ".vtu" || ext == ".vti") return read_vtk_xml(path);
+    if (ext == ".pvtu") return read_pvtu(path);
     if (ext == ".node" || ext == ".ele") return read_tetgen(path);
     if (ext == ".off") return read_off(path);
     if (ext == ".nrrd" || ext == ".nhdr") return read_nrrd(path);
@@ -35,7 +36,7 @@ Dataset load_dataset(const std::string& path, const LoadOptions& options)
     if (ext == ".bin")
         throw InputError(path, "ambiguous .bin file: give --q Q.bin for a PLOT3D grid, or --dims X,Y,Z for a raw "
                                "volume");
-    throw InputError(path, "unknown file format '" + ext + "' (known: .vtk .vtu .vti .node .ele .off .nrrd .nhdr "
+    throw InputError(path, "unknown file format '" + ext + "' (known: .vtk .vtu .pvtu .vti .node .ele .off .nrrd .nhdr "
                            ".mhd .mha .slc .raw .exo .e .ex2 .g, PLOT3D with --q)");
 }
 

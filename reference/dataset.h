@@ -32,6 +32,8 @@ struct Dataset {
     // What a format says of itself beyond the mesh, for `uvr info` (Exodus II: its blocks, sets, variables, times), as
     // the text of a JSON object; empty when the format says nothing more.
     std::string info_json;
+    // A file of pieces (.pvtu): per tetrahedron, the index of the piece it came from; empty for every other file.
+    std::vector<uint32_t> piece_of_cell;
 };
 
 Dataset load_dataset(const std::string& path, const LoadOptions& options = {});
@@ -40,6 +42,9 @@ Dataset load_dataset(const std::string& path, const LoadOptions& options = {});
 // and returns finalized data (finalize_mesh / finalize_volume applied).
 Dataset read_vtk_legacy(const std::string& path);         // UNSTRUCTURED_GRID, STRUCTURED_POINTS; ASCII and BINARY
 Dataset read_vtk_xml(const std::string& path);            // .vtu UnstructuredGrid, .vti ImageData
+// .pvtu PUnstructuredGrid: its pieces (.vtu, relative to its directory) joined into one mesh, in piece order, with
+// Dataset::piece_of_cell; every piece must hold the same fields.
+Dataset read_pvtu(const std::string& path);
 Dataset read_tetgen(const std::string& path);             // .node + .ele (either name given)
 Dataset read_off(const std::string& path);                // tetrahedral OFF
 Dataset read_plot3d(const std::string& xyz_path, const std::string& q_path);

@@ -267,4 +267,19 @@ void write_file_atomically(const std::string& path, std::string_view bytes)
     }
 }
 
+std::string escape_markup(const std::string& s)
+{
+    std::string o;
+    for (char c : s) {
+        switch (c) {
+        case '&': o += "&amp;"; break;
+        case '<': o += "&lt;"; break;
+        case '>': o += "&gt;"; break;
+        case '"': o += "&quot;"; break;
+        default: o += c;
+        }
+    }
+    return o;
+}
+
 }  // namespace uvr

@@ -118,6 +118,8 @@ std::string lowercase(std::string_view s);
 std::vector<std::string> split_words(std::string_view s);  // on spaces and tabs, empty words dropped
 std::string file_extension(const std::string& path);  // lowercase, with the dot: ".vtk"; "" if none
 std::string directory_of(const std::string& path);    // "" or ending in '/'
+// Escapes &, <, >, " for HTML and XML text, and for attribute values in double quotes.
+std::string escape_markup(const std::string& s);
 
 }  // namespace uvr
 

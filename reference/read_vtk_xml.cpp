@@ -15,9 +15,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <optional>
 
+#include <nlohmann/json.hpp>
 #include <pugixml.hpp>
 
 #include "reference/cells.h"
@@ -556,6 +558,78 @@ Dataset read_vtk_xml(const std::string& path)
                "' (uvr reads UnstructuredGrid .vtu and ImageData .vti)");
     }
     out.warnings = std::move(f.warnings);
+    return out;
+}
+
+namespace {
+
+std::string field_list(const TetMesh& mesh)
+{
+    std::string out;
+    for (const ScalarField& f : mesh.fields)
+        out += (out.empty() ? "" : ", ") + f.name + (f.association == FieldAssociation::cell ? " (cell)" : " (point)");
+    return out.empty() ? "none" : out;
+}
+
+// Appends `piece` to `mesh`: its points after mesh's, its tetrahedra renumbered, its fields' values after mesh's.
+void join_piece(XmlFile& f, TetMesh& mesh, const TetMesh& piece, std::size_t index, const std::string& piece_path)
+{
+    if (index > 0 && field_list(piece) != field_list(mesh))
+        f.fail("piece " + std::to_string(index) + " (" + piece_path + ") holds the fields " + field_list(piece) +
+               ", the first piece " + field_list(mesh) + ": every piece must hold the same fields");
+    if (mesh.points.size() + piece.points.size() > UINT32_MAX)
+        f.fail("the pieces hold more than 2^32 - 1 points together");
+    const uint32_t base = uint32_t(mesh.points.size());
+    mesh.points.insert(mesh.points.end(), piece.points.begin(), piece.points.end());
+    for (const Tet& t : piece.tets) mesh.tets.push_back({t[0] + base, t[1] + base, t[2] + base, t[3] + base});
+    if (index == 0) mesh.fields = std::vector<ScalarField>(piece.fields.size());
+    for (std::size_t i = 0; i < piece.fields.size(); ++i) {
+        ScalarField& to = mesh.fields[i];
+        to.name = piece.fields[i].name;
+        to.association = piece.fields[i].association;
+        to.values.insert(to.values.end(), piece.fields[i].values.begin(), piece.fields[i].values.end());
+    }
+}
+
+}  // namespace
+
+Dataset read_pvtu(const std::string& path)
+{
+    const std::string data = read_file_bytes(path);
+    if (data.empty()) throw InputError(path, "empty file (not a VTK XML file)");
+    XmlFile f;
+    f.path = path;
+    pugi::xml_document doc;
+    parse_xml(f, data, doc);
+    const pugi::xml_node root = doc.document_element();
+    if (std::string(root.name()) != "VTKFile" || std::string(root.attribute("type").value()) != "PUnstructuredGrid")
+        f.fail("not a parallel unstructured grid: expected <VTKFile type=\"PUnstructuredGrid\">");
+    const pugi::xml_node grid = root.child("PUnstructuredGrid");
+    if (!grid) f.fail("missing <PUnstructuredGrid> element");
+
+    Dataset out;
+    TetMesh mesh;
+    mesh.source = path;
+    nlohmann::json pieces = nlohmann::json::array();
+    std::size_t index = 0;
+    for (const pugi::xml_node& piece : grid.children("Piece")) {
+        const std::string source = piece.attribute("Source").value();
+        if (source.empty()) f.fail("Piece " + std::to_string(index) + " has no Source attribute");
+        const std::string piece_path = source.front() == '/' ? source : directory_of(path) + source;
+        if (!std::filesystem::is_regular_file(piece_path))
+            f.fail("piece " + std::to_string(index) + ": " + piece_path + " does not exist");
+        Dataset d = read_vtk_xml(piece_path);
+        if (!d.mesh) f.fail("piece " + std::to_string(index) + " (" + piece_path + ") is not an UnstructuredGrid");
+        join_piece(f, mesh, *d.mesh, index, piece_path);
+        out.piece_of_cell.insert(out.piece_of_cell.end(), d.mesh->tets.size(), uint32_t(index));
+        pieces.push_back({{"source", source}, {"points", d.mesh->points.size()}, {"tetrahedra", d.mesh->tets.size()}});
+        for (std::string& w : d.warnings) out.warnings.push_back(std::move(w));
+        ++index;
+    }
+    if (index == 0) f.fail("the PUnstructuredGrid has no Piece");
+    finalize_mesh(mesh);
+    out.mesh = std::move(mesh);
+    out.info_json = nlohmann::json({{"format", "VTK PUnstructuredGrid"}, {"pieces", pieces}}).dump();
     return out;
 }
 

@@ -12,7 +12,14 @@
 
 namespace uvr::test {
 
-inline std::string data_path(const std::string& rel) { return std::string(UVR_DATA_DIR) + "/" + rel; }
+inline std::string data_path(const std::string& rel)
+{
+    // Appended in place: `std::string(UVR_DATA_DIR) + "/" + rel` trips a false -Warray-bounds in gcc 12 at -O2.
+    std::string path = UVR_DATA_DIR;
+    path += '/';
+    path += rel;
+    return path;
+}
 
 // A fresh directory under the system temp dir, removed when the object goes away.
 class TempDir {

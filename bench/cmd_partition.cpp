@@ -1,0 +1,93 @@
+// `uvr partition MESH --parts N --out DIR`: the mesh split into parts, written as DIR/NAME.pvtu and one .vtu piece per
+// part (docs/distributed.md).
+#include <cstdio>
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/commands.h"
+#include "bench/options.h"
+#include "reference/error.h"
+#include "reference/partition.h"
+#include "reference/write_vtk_xml.h"
+
+namespace uvr::cli {
+
+namespace {
+
+struct PartitionOptions {
+    InputOptions input;
+    uint32_t parts = 0;
+    std::string method = "rcb";
+    std::string out;
+    bool json = false;
+};
+
+// NAME: the input's file name without its extension (builtin:torus gives torus).
+std::string output_name(const std::string& path)
+{
+    const std::string name = std::filesystem::path(path).stem().string();
+    const std::size_t colon = name.rfind(':');
+    return colon == std::string::npos ? name : name.substr(colon + 1);
+}
+
+// Writes every piece, then the .pvtu; a failure removes what was written, so DIR holds all of it or none of it.
+nlohmann::json write_parts(const TetMesh& mesh, const std::vector<uint32_t>& part_of, uint32_t parts,
+                           const std::string& dir, const std::string& name)
+{
+    std::vector<std::string> pieces, written;
+    nlohmann::json report = nlohmann::json::array();
+    try {
+        for (uint32_t p = 0; p < parts; ++p) {
+            const TetMesh part = extract_part(mesh, part_of, p);
+            pieces.push_back(name + "_" + std::to_string(p) + ".vtu");
+            written.push_back(dir + "/" + pieces.back());
+            write_vtu(written.back(), part);
+            report.push_back({{"piece", pieces.back()}, {"tetrahedra", part.tets.size()},
+                              {"points", part.points.size()}});
+        }
+        written.push_back(dir + "/" + name + ".pvtu");
+        write_pvtu(written.back(), mesh, pieces);
+    } catch (...) {
+        std::error_code ec;
+        for (const std::string& f : written) std::filesystem::remove(f, ec);
+        throw;
+    }
+    return report;
+}
+
+}  // namespace
+
+void register_partition(CLI::App& app)
+{
+    auto* cmd = app.add_subcommand("partition", "Split a mesh into parts: DIR/NAME.pvtu and one .vtu piece per part");
+    auto o = std::make_shared<PartitionOptions>();
+    add_input_options(*cmd, o->input);
+    cmd->add_option("--parts", o->parts, "Number of parts (1 to the number of tetrahedra)")->required();
+    cmd->add_option("--method", o->method, "rcb: recursive coordinate bisection of the cells' centroids")
+        ->check(CLI::IsMember({"rcb"}));
+    cmd->add_option("--out", o->out, "Output directory")->required();
+    cmd->add_flag("--json", o->json, "Print the parts as one JSON object on stdout");
+    cmd->callback([o] {
+        const Dataset d = load_input(o->input);
+        if (!d.mesh) throw InputError(o->input.path, "uvr partition splits tetrahedral meshes, not regular grids");
+        print_warnings(d);
+        const std::vector<uint32_t> part_of = partition_rcb(*d.mesh, o->parts);
+        std::error_code ec;
+        std::filesystem::create_directories(o->out, ec);
+        if (ec) throw InputError(o->out, "cannot create the directory: " + ec.message());
+        const std::string name = output_name(o->input.path);
+        const nlohmann::json parts = write_parts(*d.mesh, part_of, o->parts, o->out, name);
+        const nlohmann::json j = {{"file", o->out + "/" + name + ".pvtu"}, {"method", o->method}, {"parts", parts}};
+        if (o->json) {
+            std::printf("%s\n", j.dump(1).c_str());
+            return;
+        }
+        std::printf("%s: %u parts by %s\n", j["file"].get<std::string>().c_str(), o->parts, o->method.c_str());
+        for (const auto& p : parts)
+            std::printf("  %-24s %zu tetrahedra, %zu points\n", p["piece"].get<std::string>().c_str(),
+                        p["tetrahedra"].get<std::size_t>(), p["points"].get<std::size_t>());
+    });
+}
+
+}  // namespace uvr::cli

@@ -1,0 +1,195 @@
+// Partitioned meshes: recursive coordinate bisection, the .vtu pieces and .pvtu file `uvr partition` writes, and
+// reading them back as one mesh (docs/distributed.md).
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "field_scenes.h"
+#include "reference/builtin_mesh.h"
+#include "reference/dataset.h"
+#include "reference/partition.h"
+#include "reference/write_vtk_xml.h"
+#include "test_support.h"
+
+using uvr::test::CommandResult;
+using uvr::test::run_uvr;
+using uvr::test::TempDir;
+
+namespace {
+
+glm::dvec3 centroid(const uvr::TetMesh& m, std::size_t c)
+{
+    const uvr::Tet& t = m.tets[c];
+    return 0.25 * (m.points[t[0]] + m.points[t[1]] + m.points[t[2]] + m.points[t[3]]);
+}
+
+// Writes `mesh` in `parts` pieces as `uvr partition` does, and returns the .pvtu's path.
+std::string write_partitioned(const uvr::TetMesh& mesh, uint32_t parts, const TempDir& dir)
+{
+    const std::vector<uint32_t> part_of = uvr::partition_rcb(mesh, parts);
+    std::vector<std::string> pieces;
+    for (uint32_t p = 0; p < parts; ++p) {
+        pieces.push_back("piece_" + std::to_string(p) + ".vtu");
+        uvr::write_vtu(dir.file(pieces.back()), uvr::extract_part(mesh, part_of, p));
+    }
+    uvr::write_pvtu(dir.file("mesh.pvtu"), mesh, pieces);
+    return dir.file("mesh.pvtu");
+}
+
+// The pieces hold the parts' cells in mesh order, one part after the other: read back, tetrahedron i of the joined
+// mesh is cell order[i] of the original. Each must have the same corners, point values and cell values, exactly.
+void require_same_mesh(const uvr::TetMesh& original, const uvr::Dataset& read, uint32_t parts)
+{
+    const std::vector<uint32_t> part_of = uvr::partition_rcb(original, parts);
+    std::vector<uint32_t> order;
+    for (uint32_t p = 0; p < parts; ++p)
+        for (uint32_t c = 0; c < original.tets.size(); ++c)
+            if (part_of[c] == p) order.push_back(c);
+    REQUIRE(read.mesh);
+    const uvr::TetMesh& m = *read.mesh;
+    REQUIRE(m.tets.size() == order.size());
+    REQUIRE(m.fields.size() == original.fields.size());
+    REQUIRE(read.piece_of_cell.size() == order.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+        const uint32_t c = order[i];
+        REQUIRE(read.piece_of_cell[i] == part_of[c]);
+        for (int v = 0; v < 4; ++v) {
+            REQUIRE(m.points[m.tets[i][v]] == original.points[original.tets[c][v]]);
+            for (std::size_t f = 0; f < m.fields.size(); ++f)
+                if (m.fields[f].association == uvr::FieldAssociation::point)
+                    REQUIRE(m.fields[f].values[m.tets[i][v]] == original.fields[f].values[original.tets[c][v]]);
+        }
+        for (std::size_t f = 0; f < m.fields.size(); ++f) {
+            REQUIRE(m.fields[f].name == original.fields[f].name);
+            REQUIRE(m.fields[f].association == original.fields[f].association);
+            if (m.fields[f].association == uvr::FieldAssociation::cell)
+                REQUIRE(m.fields[f].values[i] == original.fields[f].values[c]);
+        }
+    }
+}
+
+std::vector<uint8_t> file_bytes(const std::string& path)
+{
+    const std::string s = uvr::test::file_contents(path);
+    return {s.begin(), s.end()};
+}
+
+}  // namespace
+
+TEST_CASE("rcb gives every part its share of the cells, separated by a plane, the same on every run")
+{
+    const uvr::TetMesh mesh = uvr::load_builtin("builtin:torus-small");
+    for (uint32_t parts = 1; parts <= 7; ++parts) {
+        const std::vector<uint32_t> part_of = uvr::partition_rcb(mesh, parts);
+        CHECK(uvr::partition_rcb(mesh, parts) == part_of);
+        std::vector<std::size_t> size(parts, 0);
+        for (uint32_t p : part_of) {
+            REQUIRE(p < parts);
+            ++size[p];
+        }
+        // Each bisection level rounds one share down: sizes differ by at most one cell per level.
+        const std::size_t levels = std::size_t(std::ceil(std::log2(double(parts))));
+        INFO(parts << " parts");
+        CHECK(*std::max_element(size.begin(), size.end()) - *std::min_element(size.begin(), size.end()) <= levels);
+    }
+    // Two parts: the torus's centroids span x and y alike, so the cut is normal to x (the lowest axis on a tie).
+    const std::vector<uint32_t> halves = uvr::partition_rcb(mesh, 2);
+    double left_max = -1e300, right_min = 1e300;
+    for (std::size_t c = 0; c < mesh.tets.size(); ++c)
+        (halves[c] == 0 ? left_max : right_min) =
+            halves[c] == 0 ? std::max(left_max, centroid(mesh, c).x) : std::min(right_min, centroid(mesh, c).x);
+    CHECK(left_max <= right_min);
+    CHECK_THROWS_WITH(uvr::partition_rcb(mesh, 0), Catch::Contains("cannot split 6904 tetrahedra into 0 parts"));
+    CHECK_THROWS_WITH(uvr::partition_rcb(mesh, 6905), Catch::Contains("into 6905 parts"));
+}
+
+TEST_CASE("a mesh written in pieces reads back from its .pvtu with the same cells, points and fields")
+{
+    SECTION("point data, per-cell vertex data and cell data")
+    {
+        for (const uvr::TetMesh& mesh :
+             {uvr::load_builtin("builtin:torus-small"), uvr::test::two_cube_seam(), uvr::test::cell_data_box()}) {
+            INFO(mesh.source);
+            for (uint32_t parts : {1u, 2u, 5u}) {
+                TempDir dir("pvtu");
+                require_same_mesh(mesh, uvr::load_dataset(write_partitioned(mesh, parts, dir)), parts);
+            }
+        }
+    }
+    SECTION("the reference renders the pieces of Blunt Fin and the torus as it renders the whole, bit for bit")
+    {
+        const std::string bf = "'" + uvr::test::data_path("vtk-data/bluntfinxyz.bin") + "' --q '" +
+                               uvr::test::data_path("vtk-data/bluntfinq.bin") + "'";
+        for (const auto& [input, name] :
+             {std::pair<std::string, std::string>{bf, "bluntfinxyz"}, {"builtin:torus-small", "torus-small"}}) {
+            TempDir dir("pvtu-render");
+            const CommandResult p = run_uvr("partition " + input + " --parts 3 --out '" + dir.file("parts") + "'");
+            REQUIRE(p.exit_code == 0);
+            const std::string view = " --algo reference --size 96x80 --view 30,25 --out ";
+            REQUIRE(run_uvr("render " + input + view + "'" + dir.file("whole.npy") + "'").exit_code == 0);
+            REQUIRE(run_uvr("render '" + dir.file("parts/" + name + ".pvtu") + "'" + view + "'" +
+                            dir.file("parts.npy") + "'").exit_code == 0);
+            CHECK(file_bytes(dir.file("whole.npy")) == file_bytes(dir.file("parts.npy")));
+        }
+    }
+}
+
+TEST_CASE("uvr info gives each part of a .pvtu its tetrahedra, boundary faces and cut faces")
+{
+    TempDir dir("pvtu-info");
+    REQUIRE(run_uvr("partition builtin:torus-small --parts 2 --out '" + dir.file("p") + "'").exit_code == 0);
+    const CommandResult r = run_uvr("info '" + dir.file("p/torus-small.pvtu") + "' --json");
+    REQUIRE(r.exit_code == 0);
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    REQUIRE(j["parts"].size() == 2);
+    const nlohmann::json& a = j["parts"][0];
+    const nlohmann::json& b = j["parts"][1];
+    CHECK(a["tetrahedra"].get<std::size_t>() + b["tetrahedra"].get<std::size_t>() == 6904);
+    CHECK(a["boundary_faces"].get<std::size_t>() + b["boundary_faces"].get<std::size_t>() ==
+          j["faces"]["boundary"].get<std::size_t>());
+    // A face cut between two parts is a cut face of both.
+    CHECK(a["cut_faces"] == b["cut_faces"]);
+    CHECK(a["cut_faces"].get<std::size_t>() > 0);
+    CHECK(j["format"]["pieces"].size() == 2);
+}
+
+TEST_CASE("a .pvtu with a missing piece, or pieces with different fields, is refused naming the file")
+{
+    TempDir dir("pvtu-bad");
+    const std::string pvtu = write_partitioned(uvr::load_builtin("builtin:torus-small"), 3, dir);
+    SECTION("a missing piece")
+    {
+        std::filesystem::remove(dir.file("piece_1.vtu"));
+        const CommandResult r = run_uvr("info '" + pvtu + "'");
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains(pvtu) && Catch::Contains("piece 1: " + dir.file("piece_1.vtu") +
+                                                                   " does not exist"));
+    }
+    SECTION("a piece with other fields")
+    {
+        const uvr::TetMesh cells = uvr::test::cell_data_box();
+        uvr::write_vtu(dir.file("piece_2.vtu"), cells);
+        const CommandResult r = run_uvr("info '" + pvtu + "'");
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains("every piece must hold the same fields"));
+    }
+}
+
+TEST_CASE("uvr partition refuses parts it cannot make and a regular grid, and writes nothing")
+{
+    TempDir dir("partition-bad");
+    for (const std::string parts : {"0", "6905"}) {
+        const CommandResult r = run_uvr("partition builtin:torus-small --parts " + parts + " --out '" +
+                                        dir.file("out") + "'");
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains("cannot split 6904 tetrahedra into " + parts + " parts"));
+    }
+    const CommandResult grid = run_uvr("partition builtin:torus-volume --parts 2 --out '" + dir.file("out") + "'");
+    CHECK(grid.exit_code == 1);
+    CHECK_THAT(grid.err, Catch::Contains("splits tetrahedral meshes, not regular grids"));
+    CHECK(!std::filesystem::exists(dir.file("out")));
+}
