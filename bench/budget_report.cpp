@@ -14,16 +14,17 @@ std::string row(const std::string& name, const nlohmann::json& j, const std::str
     char buf[256];
     std::snprintf(buf, sizeof buf, "<td>%.3g</td><td>%.3g</td><td>%.4f</td>", j["rmse"].get<double>(),
                   j["max_abs"].get<double>(), j["visible_fraction"].get<double>());
-    return "<tr><th>" + escape_markup(name) + "</th>" + buf + "<td class=\"what\">" + escape_markup(what) + "</td></tr>\n";
+    return "<tr><th>" + escape_markup(name) + "</th>" + buf + "<td class=\"what\">" + escape_markup(what) +
+           "</td></tr>\n";
 }
 
 std::string figure(const std::string& name, const nlohmann::json& j)
 {
     const std::string image = j["image"].get<std::string>();
     const std::string png = image.substr(0, image.size() - 4) + ".png";
-    return "<figure><img src=\"" + escape_markup(j["error_map"].get<std::string>()) + "\" alt=\"" + escape_markup(name) +
-           " error\"><img src=\"" + escape_markup(png) + "\" alt=\"" + escape_markup(name) + " image\"><figcaption>" +
-           escape_markup(name) + "</figcaption></figure>\n";
+    return "<figure><img src=\"" + escape_markup(j["error_map"].get<std::string>()) + "\" alt=\"" +
+           escape_markup(name) + " error\"><img src=\"" + escape_markup(png) + "\" alt=\"" + escape_markup(name) +
+           " image\"><figcaption>" + escape_markup(name) + "</figcaption></figure>\n";
 }
 
 }  // namespace
@@ -31,17 +32,18 @@ std::string figure(const std::string& name, const nlohmann::json& j)
 void write_budget_page(const std::string& dir, const nlohmann::json& b, bool chart)
 {
     const std::string algo = b["algo"].get<std::string>();
-    std::string h = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>uvr budget: " +
-                    escape_markup(algo) + ", " + escape_markup(b["mesh"].get<std::string>()) +
-                    "</title>\n<style>body { font-family: sans-serif; margin: 1.5em; background: #fafafa; color: #222; "
-                    "max-width: 80em; } table { border-collapse: collapse; } th, td { padding: 0.4em 0.8em; "
-                    "border-bottom: 1px solid #ddd; text-align: right; } td.what { text-align: left; max-width: 40em; } "
-                    "figure { display: inline-block; margin: 0.4em; } figure img { width: 192px; "
-                    "image-rendering: pixelated; background: #000; margin-right: 2px; } .bad { color: #b00; "
-                    "font-weight: bold; }</style></head><body>\n";
+    std::string h =
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>uvr budget: " + escape_markup(algo) +
+        ", " + escape_markup(b["mesh"].get<std::string>()) +
+        "</title>\n<style>body { font-family: sans-serif; margin: 1.5em; background: #fafafa; color: #222; "
+        "max-width: 80em; } table { border-collapse: collapse; } th, td { padding: 0.4em 0.8em; "
+        "border-bottom: 1px solid #ddd; text-align: right; } td.what { text-align: left; max-width: 40em; } "
+        "figure { display: inline-block; margin: 0.4em; } figure img { width: 192px; "
+        "image-rendering: pixelated; background: #000; margin-right: 2px; } .bad { color: #b00; "
+        "font-weight: bold; }</style></head><body>\n";
     h += "<h1>uvr budget: where " + escape_markup(algo) + "'s error comes from</h1>\n<p>" +
-         escape_markup(b["mesh"].get<std::string>()) + ", field <b>" + escape_markup(b["field"].get<std::string>()) + "</b>, " +
-         std::to_string(b["width"].get<int>()) + " &times; " + std::to_string(b["height"].get<int>()) +
+         escape_markup(b["mesh"].get<std::string>()) + ", field <b>" + escape_markup(b["field"].get<std::string>()) +
+         "</b>, " + std::to_string(b["width"].get<int>()) + " &times; " + std::to_string(b["height"].get<int>()) +
          ". Every run is measured against the exact reference. The <i>baseline</i> has every switch exact; each "
          "<i>factor</i> is the baseline with one switch set back to the configuration's value, so its error is that "
          "cause's alone; the <i>total</i> is the configuration itself. Factors need not add up to the total: causes "

@@ -19,7 +19,8 @@ nlohmann::json describe_parts(const MeshTopology& topo, const std::vector<uint32
 {
     nlohmann::json parts = nlohmann::json::array();
     for (const PartCounts& c : count_parts(topo, piece_of_cell))
-        parts.push_back({{"tetrahedra", c.tetrahedra}, {"boundary_faces", c.boundary_faces}, {"cut_faces", c.cut_faces}});
+        parts.push_back(
+            {{"tetrahedra", c.tetrahedra}, {"boundary_faces", c.boundary_faces}, {"cut_faces", c.cut_faces}});
     return parts;
 }
 

@@ -18,7 +18,7 @@ namespace {
 struct PartitionOptions {
     InputOptions input;
     uint32_t parts = 0;
-    std::string method = "rcb";
+    std::string method = "rcb";  // kPartitionMethods
     std::string out;
     bool json = false;
 };
@@ -43,8 +43,8 @@ nlohmann::json write_parts(const TetMesh& mesh, const std::vector<uint32_t>& par
             pieces.push_back(name + "_" + std::to_string(p) + ".vtu");
             written.push_back(dir + "/" + pieces.back());
             write_vtu(written.back(), part);
-            report.push_back({{"piece", pieces.back()}, {"tetrahedra", part.tets.size()},
-                              {"points", part.points.size()}});
+            report.push_back(
+                {{"piece", pieces.back()}, {"tetrahedra", part.tets.size()}, {"points", part.points.size()}});
         }
         written.push_back(dir + "/" + name + ".pvtu");
         write_pvtu(written.back(), mesh, pieces);
@@ -64,15 +64,15 @@ void register_partition(CLI::App& app)
     auto o = std::make_shared<PartitionOptions>();
     add_input_options(*cmd, o->input);
     cmd->add_option("--parts", o->parts, "Number of parts (1 to the number of tetrahedra)")->required();
-    cmd->add_option("--method", o->method, "rcb: recursive coordinate bisection of the cells' centroids")
-        ->check(CLI::IsMember({"rcb"}));
+    cmd->add_option("--method", o->method, choices_help(kPartitionMethods))->capture_default_str();
     cmd->add_option("--out", o->out, "Output directory")->required();
     cmd->add_flag("--json", o->json, "Print the parts as one JSON object on stdout");
     cmd->callback([o] {
+        const PartitionMethod method = parse_choice("--method", kPartitionMethods, o->method);
         const Dataset d = load_input(o->input);
         if (!d.mesh) throw InputError(o->input.path, "uvr partition splits tetrahedral meshes, not regular grids");
         print_warnings(d);
-        const std::vector<uint32_t> part_of = partition_rcb(*d.mesh, o->parts);
+        const std::vector<uint32_t> part_of = partition_mesh(*d.mesh, o->parts, method);
         std::error_code ec;
         std::filesystem::create_directories(o->out, ec);
         if (ec) throw InputError(o->out, "cannot create the directory: " + ec.message());

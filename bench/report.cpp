@@ -102,9 +102,10 @@ img { image-rendering: pixelated; width: 256px; background: #000; }
         if (outside)
             note = "<br><small>" + escape_markup(r["source"].get<std::string>()) +
                    (r["colour_only"].get<bool>() ? "<br>colour only (no alpha): RGB against the reference over black"
-                                                 : "") + "</small>";
-        h += "<tr><td>" + escape_markup(label) + note + "</td><td><img src=\"" + escape_markup(r["image"].get<std::string>()) +
-             "\" alt=\"" + escape_markup(label) + "\"></td><td>";
+                                                 : "") +
+                   "</small>";
+        h += "<tr><td>" + escape_markup(label) + note + "</td><td><img src=\"" +
+             escape_markup(r["image"].get<std::string>()) + "\" alt=\"" + escape_markup(label) + "\"></td><td>";
         if (r.contains("error_map"))
             h += "<img src=\"" + escape_markup(r["error_map"].get<std::string>()) + "\" alt=\"error of " +
                  escape_markup(label) + "\">";
@@ -121,14 +122,16 @@ img { image-rendering: pixelated; width: 256px; background: #000; }
 
 void write_sweep_page(const std::string& dir, const nlohmann::json& w, bool plots)
 {
-    std::string h = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>uvr sweep: " +
-                    escape_markup(w["mesh"].get<std::string>()) +
-                    "</title>\n<style>body { font-family: sans-serif; margin: 1.5em; background: #fafafa; color: #222; }"
-                    " table { border-collapse: collapse; } th, td { padding: 0.4em 0.8em; border-bottom: 1px solid "
-                    "#ddd; text-align: right; } img { max-width: 48%; }</style></head><body>\n";
+    std::string h =
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>uvr sweep: " +
+        escape_markup(w["mesh"].get<std::string>()) +
+        "</title>\n<style>body { font-family: sans-serif; margin: 1.5em; background: #fafafa; color: #222; }"
+        " table { border-collapse: collapse; } th, td { padding: 0.4em 0.8em; border-bottom: 1px solid "
+        "#ddd; text-align: right; } img { max-width: 48%; }</style></head><body>\n";
     h += "<h1>uvr sweep: HAVS error against k</h1>\n<p>" + escape_markup(w["mesh"].get<std::string>()) + ", field <b>" +
          escape_markup(w["field"].get<std::string>()) + "</b>, " + std::to_string(w["width"].get<int>()) + " &times; " +
-         std::to_string(w["height"].get<int>()) + ". <i>Sorting error</i>: HAVS with exact segment integration "
+         std::to_string(w["height"].get<int>()) +
+         ". <i>Sorting error</i>: HAVS with exact segment integration "
          "against the reference. <i>Total</i>: HAVS with the pre-integrated table. <i>Table error</i>: table against "
          "exact at the largest k, where sorting no longer errs.</p>\n";
     if (plots)
@@ -221,10 +224,10 @@ void write_demo_page(const std::string& dir, const nlohmann::json& page)
         for (const auto& r : part["results"]) {
             std::string twin = "&mdash;";
             if (r.contains("same_bits"))
-                twin = r["same_bits"].get<bool>()
-                           ? "<span class=\"same\">same bits</span> as " + escape_markup(r["same_bits_as"].get<std::string>())
-                           : "<span class=\"differs\">differs</span> from " +
-                                 escape_markup(r["same_bits_as"].get<std::string>());
+                twin = r["same_bits"].get<bool>() ? "<span class=\"same\">same bits</span> as " +
+                                                        escape_markup(r["same_bits_as"].get<std::string>())
+                                                  : "<span class=\"differs\">differs</span> from " +
+                                                        escape_markup(r["same_bits_as"].get<std::string>());
             std::snprintf(buf, sizeof buf, "<td>%.3g</td><td>%.3g</td><td>%.4f</td>", r["rmse"].get<double>(),
                           r["max_abs"].get<double>(), r["visible_fraction"].get<double>());
             const std::string image = escape_markup(r["image"].get<std::string>());

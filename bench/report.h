@@ -35,5 +35,4 @@ std::string load_check_script();
 // The inferno legend of the error heat maps as an inline CSS gradient with its logarithmic ticks.
 std::string heat_legend_html();
 
-
 }  // namespace uvr::cli

@@ -145,8 +145,8 @@ nlohmann::json run_step_sweep(Scene& s, const AlgoOptions& o, std::vector<double
             char row[256];
             const std::string dominant = r["dominant"].get<std::string>();
             std::snprintf(row, sizeof row, "<tr><td>%d<td>%.6g<td>%s<td>%.3g<td>%.3g", r["view"].get<int>(),
-                          r["step"].get<double>(), escape_markup(dominant).c_str(), r["factors"][dominant].get<double>(),
-                          r["total"].get<double>());
+                          r["step"].get<double>(), escape_markup(dominant).c_str(),
+                          r["factors"][dominant].get<double>(), r["total"].get<double>());
             html += std::string(row) + "<td><a href=\"" + escape_markup(r["page"].get<std::string>()) + "\">page</a>";
         }
         html += "</table>\n";

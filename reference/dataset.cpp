@@ -36,8 +36,9 @@ Dataset load_dataset(const std::string& path, const LoadOptions& options)
     if (ext == ".bin")
         throw InputError(path, "ambiguous .bin file: give --q Q.bin for a PLOT3D grid, or --dims X,Y,Z for a raw "
                                "volume");
-    throw InputError(path, "unknown file format '" + ext + "' (known: .vtk .vtu .pvtu .vti .node .ele .off .nrrd .nhdr "
-                           ".mhd .mha .slc .raw .exo .e .ex2 .g, PLOT3D with --q)");
+    throw InputError(path, "unknown file format '" + ext +
+                               "' (known: .vtk .vtu .pvtu .vti .node .ele .off .nrrd .nhdr "
+                               ".mhd .mha .slc .raw .exo .e .ex2 .g, PLOT3D with --q)");
 }
 
 }  // namespace uvr

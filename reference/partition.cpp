@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include <glm/common.hpp>
+#include <metis.h>
 
 #include "reference/error.h"
 
@@ -44,14 +45,25 @@ struct Bisection {
     }
 };
 
-}  // namespace
-
-std::vector<uint32_t> partition_rcb(const TetMesh& mesh, uint32_t parts)
+void check_parts(const TetMesh& mesh, uint32_t parts)
 {
     const std::size_t n = mesh.tets.size();
     if (parts < 1 || parts > n)
         throw InputError(mesh.source, "cannot split " + std::to_string(n) + " tetrahedra into " +
                                           std::to_string(parts) + " parts (1 to the number of tetrahedra)");
+}
+
+}  // namespace
+
+std::vector<uint32_t> partition_mesh(const TetMesh& mesh, uint32_t parts, PartitionMethod method)
+{
+    return method == PartitionMethod::metis ? partition_metis(mesh, parts) : partition_rcb(mesh, parts);
+}
+
+std::vector<uint32_t> partition_rcb(const TetMesh& mesh, uint32_t parts)
+{
+    check_parts(mesh, parts);
+    const std::size_t n = mesh.tets.size();
     std::vector<glm::dvec3> centroid(n);
     for (std::size_t i = 0; i < n; ++i) {
         const Tet& t = mesh.tets[i];
@@ -79,6 +91,40 @@ std::vector<PartCounts> count_parts(const MeshTopology& topo, const std::vector<
         }
     }
     return out;
+}
+
+std::vector<uint32_t> partition_metis(const TetMesh& mesh, uint32_t parts)
+{
+    check_parts(mesh, parts);
+    const std::size_t n = mesh.tets.size();
+    if (parts == 1) return std::vector<uint32_t>(n, 0);
+    if (n > std::size_t(std::numeric_limits<idx_t>::max()) / 4)
+        throw InputError(mesh.source, "too many tetrahedra for METIS's 32-bit indices");
+    const MeshTopology topo = build_topology(mesh);
+    std::vector<idx_t> xadj{0}, adjncy;
+    for (std::size_t c = 0; c < n; ++c) {
+        for (int32_t other : topo.neighbor[c])
+            if (other >= 0) adjncy.push_back(other);
+        xadj.push_back(idx_t(adjncy.size()));
+    }
+    idx_t vertices = idx_t(n), constraints = 1, nparts = idx_t(parts), cut = 0;
+    idx_t options[METIS_NOPTIONS];
+    METIS_SetDefaultOptions(options);
+    options[METIS_OPTION_SEED] = 1;  // METIS's random choices from a fixed seed: the same parts on every run
+    options[METIS_OPTION_NUMBERING] = 0;
+    std::vector<idx_t> part(n, 0);
+    const int status = METIS_PartGraphKway(&vertices, &constraints, xadj.data(), adjncy.data(), nullptr, nullptr,
+                                           nullptr, &nparts, nullptr, nullptr, options, &cut, part.data());
+    if (status != METIS_OK)
+        throw InputError(mesh.source, "METIS could not split the mesh into " + std::to_string(parts) +
+                                          " parts (status " + std::to_string(status) + ")");
+    std::vector<std::size_t> size(parts, 0);
+    for (idx_t p : part) ++size[std::size_t(p)];
+    for (uint32_t p = 0; p < parts; ++p)
+        if (size[p] == 0)
+            throw InputError(mesh.source, "METIS left part " + std::to_string(p) + " of " + std::to_string(parts) +
+                                              " empty: ask for fewer parts");
+    return std::vector<uint32_t>(part.begin(), part.end());
 }
 
 TetMesh extract_part(const TetMesh& mesh, const std::vector<uint32_t>& part_of, uint32_t part)

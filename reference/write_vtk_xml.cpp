@@ -63,10 +63,11 @@ void write_vtu(const std::string& path, const TetMesh& mesh)
     const std::vector<uint8_t> types(kept.size(), 10);  // VTK_TETRA
 
     AppendedBlock block;
-    std::string xml = "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
-                      "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece "
-                      "NumberOfPoints=\"" + std::to_string(mesh.points.size()) + "\" NumberOfCells=\"" +
-                      std::to_string(kept.size()) + "\">\n";
+    std::string xml =
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+        "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<UnstructuredGrid>\n<Piece "
+        "NumberOfPoints=\"" +
+        std::to_string(mesh.points.size()) + "\" NumberOfCells=\"" + std::to_string(kept.size()) + "\">\n";
     xml += "<PointData>\n" + field_arrays(block, mesh, FieldAssociation::point, kept) + "</PointData>\n";
     xml += "<CellData>\n" + field_arrays(block, mesh, FieldAssociation::cell, kept) + "</CellData>\n";
     xml += "<Points>\n" + block.add("Float64", "Points", 3, xyz) + "</Points>\n";
@@ -84,11 +85,13 @@ void write_pvtu(const std::string& path, const TetMesh& like, const std::vector<
         std::string xml;
         for (const ScalarField& f : like.fields)
             if (f.association == association)
-                xml += "<PDataArray type=\"Float64\" Name=\"" + escape_markup(f.name) + "\" NumberOfComponents=\"1\"/>\n";
+                xml +=
+                    "<PDataArray type=\"Float64\" Name=\"" + escape_markup(f.name) + "\" NumberOfComponents=\"1\"/>\n";
         return xml;
     };
-    std::string xml = "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" "
-                      "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<PUnstructuredGrid GhostLevel=\"0\">\n";
+    std::string xml =
+        "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" "
+        "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<PUnstructuredGrid GhostLevel=\"0\">\n";
     xml += "<PPointData>\n" + declarations(FieldAssociation::point) + "</PPointData>\n";
     xml += "<PCellData>\n" + declarations(FieldAssociation::cell) + "</PCellData>\n";
     xml += "<PPoints>\n<PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n</PPoints>\n";

@@ -107,6 +107,31 @@ TEST_CASE("rcb gives every part its share of the cells, separated by a plane, th
     CHECK_THROWS_WITH(uvr::partition_rcb(mesh, 6905), Catch::Contains("into 6905 parts"));
 }
 
+TEST_CASE("METIS gives parts within its size bound that cut fewer faces than rcb, the same on every run")
+{
+    const uvr::TetMesh mesh = uvr::load_builtin("builtin:torus-small");
+    const uvr::MeshTopology topo = uvr::build_topology(mesh);
+    auto cut_faces = [&](const std::vector<uint32_t>& part_of) {
+        std::size_t cut = 0;
+        for (const uvr::PartCounts& c : uvr::count_parts(topo, part_of)) cut += c.cut_faces;
+        return cut / 2;  // each cut face is counted by both of its parts
+    };
+    for (uint32_t parts = 1; parts <= 6; ++parts) {
+        INFO(parts << " parts");
+        const std::vector<uint32_t> part_of = uvr::partition_metis(mesh, parts);
+        CHECK(uvr::partition_metis(mesh, parts) == part_of);
+        const std::vector<uvr::PartCounts> counts = uvr::count_parts(topo, part_of);
+        REQUIRE(counts.size() == parts);
+        const double bound = std::ceil(uvr::kMetisImbalance * double(mesh.tets.size()) / parts);
+        for (const uvr::PartCounts& c : counts) {
+            CHECK(c.tetrahedra > 0);
+            CHECK(double(c.tetrahedra) <= bound);
+        }
+        if (parts > 1) CHECK(cut_faces(part_of) < cut_faces(uvr::partition_rcb(mesh, parts)));
+    }
+    CHECK_THROWS_WITH(uvr::partition_metis(mesh, 6905), Catch::Contains("into 6905 parts"));
+}
+
 TEST_CASE("a mesh written in pieces reads back from its .pvtu with the same cells, points and fields")
 {
     SECTION("point data, per-cell vertex data and cell data")
@@ -127,13 +152,17 @@ TEST_CASE("a mesh written in pieces reads back from its .pvtu with the same cell
         for (const auto& [input, name] :
              {std::pair<std::string, std::string>{bf, "bluntfinxyz"}, {"builtin:torus-small", "torus-small"}}) {
             TempDir dir("pvtu-render");
-            const CommandResult p = run_uvr("partition " + input + " --parts 3 --out '" + dir.file("parts") + "'");
-            REQUIRE(p.exit_code == 0);
             const std::string view = " --algo reference --size 96x80 --view 30,25 --out ";
             REQUIRE(run_uvr("render " + input + view + "'" + dir.file("whole.npy") + "'").exit_code == 0);
-            REQUIRE(run_uvr("render '" + dir.file("parts/" + name + ".pvtu") + "'" + view + "'" +
-                            dir.file("parts.npy") + "'").exit_code == 0);
-            CHECK(file_bytes(dir.file("whole.npy")) == file_bytes(dir.file("parts.npy")));
+            for (const std::string method : {"rcb", "metis"}) {
+                INFO(name << " by " << method);
+                const std::string parts = dir.file(method);
+                REQUIRE(run_uvr("partition " + input + " --parts 3 --method " + method + " --out '" + parts + "'")
+                            .exit_code == 0);
+                REQUIRE(run_uvr("render '" + parts + "/" + name + ".pvtu'" + view + "'" + parts + ".npy'").exit_code ==
+                        0);
+                CHECK(file_bytes(dir.file("whole.npy")) == file_bytes(parts + ".npy"));
+            }
         }
     }
 }
@@ -166,8 +195,8 @@ TEST_CASE("a .pvtu with a missing piece, or pieces with different fields, is ref
         std::filesystem::remove(dir.file("piece_1.vtu"));
         const CommandResult r = run_uvr("info '" + pvtu + "'");
         CHECK(r.exit_code == 1);
-        CHECK_THAT(r.err, Catch::Contains(pvtu) && Catch::Contains("piece 1: " + dir.file("piece_1.vtu") +
-                                                                   " does not exist"));
+        CHECK_THAT(r.err,
+                   Catch::Contains(pvtu) && Catch::Contains("piece 1: " + dir.file("piece_1.vtu") + " does not exist"));
     }
     SECTION("a piece with other fields")
     {
@@ -179,15 +208,19 @@ TEST_CASE("a .pvtu with a missing piece, or pieces with different fields, is ref
     }
 }
 
-TEST_CASE("uvr partition refuses parts it cannot make and a regular grid, and writes nothing")
+TEST_CASE("uvr partition refuses parts it cannot make, an unknown method and a regular grid, and writes nothing")
 {
     TempDir dir("partition-bad");
     for (const std::string parts : {"0", "6905"}) {
-        const CommandResult r = run_uvr("partition builtin:torus-small --parts " + parts + " --out '" +
-                                        dir.file("out") + "'");
+        const CommandResult r =
+            run_uvr("partition builtin:torus-small --parts " + parts + " --out '" + dir.file("out") + "'");
         CHECK(r.exit_code == 1);
         CHECK_THAT(r.err, Catch::Contains("cannot split 6904 tetrahedra into " + parts + " parts"));
     }
+    const CommandResult method =
+        run_uvr("partition builtin:torus-small --parts 2 --method kd --out '" + dir.file("out") + "'");
+    CHECK(method.exit_code == 1);
+    CHECK_THAT(method.err, Catch::Contains("--method must be rcb or metis, not 'kd'"));
     const CommandResult grid = run_uvr("partition builtin:torus-volume --parts 2 --out '" + dir.file("out") + "'");
     CHECK(grid.exit_code == 1);
     CHECK_THAT(grid.err, Catch::Contains("splits tetrahedral meshes, not regular grids"));
