@@ -99,9 +99,12 @@ TEST_CASE("rcb gives every part its share of the cells, separated by a plane, th
     // Two parts: the torus's centroids span x and y alike, so the cut is normal to x (the lowest axis on a tie).
     const std::vector<uint32_t> halves = uvr::partition_rcb(mesh, 2);
     double left_max = -1e300, right_min = 1e300;
-    for (std::size_t c = 0; c < mesh.tets.size(); ++c)
-        (halves[c] == 0 ? left_max : right_min) =
-            halves[c] == 0 ? std::max(left_max, centroid(mesh, c).x) : std::min(right_min, centroid(mesh, c).x);
+    for (std::size_t c = 0; c < mesh.tets.size(); ++c) {
+        if (halves[c] == 0)
+            left_max = std::max(left_max, centroid(mesh, c).x);
+        else
+            right_min = std::min(right_min, centroid(mesh, c).x);
+    }
     CHECK(left_max <= right_min);
     CHECK_THROWS_WITH(uvr::partition_rcb(mesh, 0), Catch::Contains("cannot split 6904 tetrahedra into 0 parts"));
     CHECK_THROWS_WITH(uvr::partition_rcb(mesh, 6905), Catch::Contains("into 6905 parts"));
