@@ -5,7 +5,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libembree-dev libglm-dev libosmesa6-dev libegl-dev libegl-mesa0 libtbb-dev libpng-dev zlib1g-dev
   catch2 libtet1.5-dev nlohmann-json3-dev libcli11-dev libpugixml-dev libopenexr-dev libexodusii-dev libnetcdf-dev
-  libmetis-dev
+  libmetis-dev libopenmpi-dev openmpi-bin
   python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib chromium
   # the sanitizer build's compiler and its runtime libraries (scripts/test-sanitize.sh); LLVM's linker (CMakeLists.txt)
   clang libclang-rt-14-dev lld

@@ -258,18 +258,18 @@ TEST_CASE("havs_kbuffer in GLSL computes the emulation's bits on 1,400,000 rando
     uint64_t seed = 1;
     for (const Batch& b : batches) {
         KBufferGen g(seed++, b.max_gap);
-        const KBufferCases cs = make_kbuffer_cases(g, b.k, b.n, b.threshold);
+        const KBufferCases cs = make_kbuffer_cases(g, b.k, test::random_cases(b.n), b.threshold);
         const HavsFrameConstants fc = kbuffer_frame(b.threshold, b.max_gap);
         const KBufferResults r = h.run_kbuffer(fc, cs, HarnessShade::per_case);
         compare_kbuffer(fc, cs, r, nullptr, mm, t);
     }
     INFO(t.cases << " cases, " << t.killed << " killed, " << t.lookups << " lookups, " << t.zero_length
                  << " of zero length, " << t.max_length << " of the maximum length");
-    CHECK(t.cases >= 1000000);
-    CHECK(t.killed > 10000);
-    CHECK(t.lookups > 100000);
-    CHECK(t.zero_length > 10000);
-    CHECK(t.max_length > 1000);
+    CHECK(t.cases >= test::random_cases(1000000));
+    CHECK(t.killed > test::random_cases(10000));
+    CHECK(t.lookups > test::random_cases(100000));
+    CHECK(t.zero_length > test::random_cases(10000));
+    CHECK(t.max_length > test::random_cases(1000));
     mm.report("havs_kbuffer");
 }
 
@@ -289,12 +289,12 @@ TEST_CASE("havs_kbuffer in GLSL with the table in a real 3D texture computes the
         fc.length_bias = table.length_bias();
         const SegmentShader lookup = [&](float uf, float ub, float tz, float) { return table.sample(uf, ub, tz, cpu); };
         KBufferGen g(seed++, 0.5f);
-        const KBufferCases cs = make_kbuffer_cases(g, 6, 200000, 0.99f);
+        const KBufferCases cs = make_kbuffer_cases(g, 6, test::random_cases(200000), 0.99f);
         const KBufferResults r = h.run_kbuffer(fc, cs, HarnessShade::table, &table);
         compare_kbuffer(fc, cs, r, &lookup, mm, t);
     }
     INFO(t.lookups << " table lookups in " << t.cases << " cases (FMA3: " << cpu.fma << ")");
-    CHECK(t.lookups > 100000);
+    CHECK(t.lookups > test::random_cases(100000));
     mm.report("havs_kbuffer with the table");
 }
 
@@ -308,7 +308,7 @@ TEST_CASE("havs_fragment_entry in GLSL computes the emulation's bits on 1,200,00
         EntryGen g(seed++, ortho);
         std::vector<HavsFace> faces;
         std::vector<glm::ivec2> pixels;
-        while (faces.size() < 600000) g.make(faces, pixels, 1 + std::size_t(g.pick(40)));
+        while (faces.size() < test::random_cases(600000)) g.make(faces, pixels, 1 + std::size_t(g.pick(40)));
         const HavsFrameConstants fc = g.frame();
         std::vector<glm::dvec2> values;
         const std::vector<KEntry> r = h.run_entry(fc, faces, pixels, &values);
@@ -331,9 +331,9 @@ TEST_CASE("havs_fragment_entry in GLSL computes the emulation's bits on 1,200,00
     }
     INFO(cases_total << " fragments, " << snapped << " took the snapped weights, " << at_range_end
                       << " outside their triangle with the scalar clamped to 0 or 1");
-    CHECK(cases_total >= 1000000);
-    CHECK(snapped > 20000);
-    CHECK(at_range_end > 20000);
+    CHECK(cases_total >= test::random_cases(1000000));
+    CHECK(snapped > test::random_cases(20000));
+    CHECK(at_range_end > test::random_cases(20000));
     CHECK(transcription_off == 0);
     mm.report("havs_fragment_entry");
     mm_double.report("havs_fragment_values (double)");
@@ -352,7 +352,7 @@ TEST_CASE("havs_paper_entry in GLSL computes the emulation's bits on 1,000,000 r
     for (bool ortho : {false, true}) {
         HavsFrameConstants fc;
         fc.orthographic = ortho;
-        std::vector<HavsVaryings> v(500000);
+        std::vector<HavsVaryings> v(test::random_cases(500000));
         std::vector<glm::vec3> corners(v.size());
         const float sides[3] = {kSideExit, kSideInterior, kSideEntry};
         for (std::size_t i = 0; i < v.size(); ++i) {
@@ -382,9 +382,9 @@ TEST_CASE("havs_paper_entry in GLSL computes the emulation's bits on 1,000,000 r
         cases_total += v.size();
     }
     INFO(cases_total << " cases, " << nan_distance << " with a NaN distance, " << outside << " marked outside");
-    CHECK(cases_total >= 1000000);
-    CHECK(nan_distance > 10000);
-    CHECK(outside > 50000);
+    CHECK(cases_total >= test::random_cases(1000000));
+    CHECK(nan_distance > test::random_cases(10000));
+    CHECK(outside > test::random_cases(50000));
     mm.report("havs_paper_entry");
 }
 

@@ -22,6 +22,7 @@
 #include "bit_compare.h"
 #include "case_rng.h"
 #include "gl_harness.h"
+#include "test_support.h"
 
 using namespace uvr;
 using namespace uvr::gpu;
@@ -221,7 +222,7 @@ void compare(const InterpolationImages& emu, const InterpolationImages& glv, con
 }
 
 // More than a million (triangle, pixel) cases in all (docs/spec.md §7 asks for a million).
-constexpr uint64_t kMinCases = 1000000;
+constexpr uint64_t kMinCases = test::random_cases(1000000);
 
 void check_platform(GlPlatform platform)
 {
@@ -236,10 +237,10 @@ void check_platform(GlPlatform platform)
     // the plane's value at pixel (0, 0), so far triangles lose the most to its rounding).
     std::vector<Batch> batches;
     for (Kind k : {Kind::ordinary, Kind::sliver, Kind::tiny_w, Kind::large_w, Kind::mixed_w, Kind::small_values})
-        batches.push_back({1024, 1024, k, 12000});
-    batches.push_back({8192, 128, Kind::ordinary, 8000});
-    batches.push_back({128, 8192, Kind::mixed_w, 8000});
-    batches.push_back({512, 384, Kind::ordinary, 3000, true});
+        batches.push_back({1024, 1024, k, int(test::random_cases(12000))});
+    batches.push_back({8192, 128, Kind::ordinary, int(test::random_cases(8000))});
+    batches.push_back({128, 8192, Kind::mixed_w, int(test::random_cases(8000))});
+    batches.push_back({512, 384, Kind::ordinary, int(test::random_cases(3000)), true});
     Tally all;
     uint64_t seed = 1;
     for (const Batch& b : batches) {

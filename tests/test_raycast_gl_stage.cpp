@@ -17,6 +17,7 @@
 #include "bit_compare.h"
 #include "case_rng.h"
 #include "gl_harness.h"
+#include "test_support.h"
 #include "gpu/pipeline/denormals.h"
 #include "gpu/raycast/gl_raycast_harness.h"
 #include "gpu/pipeline/pixel_rays.h"
@@ -412,7 +413,7 @@ TEST_CASE("the published ray in GLSL computes the emulation's bits from 1,048,57
     Mismatches mm;
     PublishedRayTally t;
     constexpr int kFrames = 64;
-    constexpr std::size_t kPairs = 16384;
+    constexpr std::size_t kPairs = test::random_cases(16384);
     for (int f = 0; f < kFrames; ++f) {
         const RaycastFrameConstants fc = random_published_frame(r);
         const std::vector<glm::vec4> texels = published_texels(r, kPairs);
@@ -420,18 +421,18 @@ TEST_CASE("the published ray in GLSL computes the emulation's bits from 1,048,57
     }
     INFO(t.rays << " pairs: " << t.unwritten << " with a texel unwritten, " << t.zero_length
                 << " of no length, " << t.capped << " capped, " << t.one_axis << " along one axis");
-    CHECK(t.rays == 1048576u);
-    CHECK(t.unwritten > 50000);
-    CHECK(t.zero_length > 50000);
-    CHECK(t.capped > 50000);
-    CHECK(t.one_axis > 50000);
+    CHECK(t.rays == kFrames * kPairs);
+    CHECK(t.unwritten > test::random_cases(50000));
+    CHECK(t.zero_length > test::random_cases(50000));
+    CHECK(t.capped > test::random_cases(50000));
+    CHECK(t.one_axis > test::random_cases(50000));
     mm.report("raycast_ray_published");
 }
 
 TEST_CASE("the ray caster's ray in GLSL computes the emulation's doubles at 1,048,576 pixels of random frames")
 {
     GlRaycastHarness& h = *gl(GlPlatform::osmesa).harness;
-    constexpr int kFrames = 256, kPixels = 4096, kSize = 64;
+    constexpr int kFrames = int(test::random_cases(256)), kPixels = 4096, kSize = 64;
     Rng r(70);
     Mismatches mm;
     uint64_t hits = 0, capped = 0, parallel = 0;
@@ -453,9 +454,9 @@ TEST_CASE("the ray caster's ray in GLSL computes the emulation's doubles at 1,04
     }
     INFO(hits << " rays hit their box, " << capped << " capped at the frame's sample limit, " << parallel
               << " parallel to a plane of it");
-    CHECK(hits > 300000);
-    CHECK(capped > 10000);
-    CHECK(parallel > 10000);
+    CHECK(hits > test::random_cases(300000));
+    CHECK(capped > test::random_cases(10000));
+    CHECK(parallel > test::random_cases(10000));
     mm.report("raycast_ray_exact (double)");
 }
 
@@ -509,14 +510,14 @@ TEST_CASE("the ray caster's lighting in GLSL computes the emulation's doubles on
     LightTally t;
     for (int f = 0; f < 16; ++f) {
         const RaycastFrameConstants fc = random_light_frame(r);
-        const std::vector<RaycastLightCase> cs = light_cases(r, fc, 65536);
+        const std::vector<RaycastLightCase> cs = light_cases(r, fc, test::random_cases(65536));
         compare_light(fc, cs, h.run_light(fc, cs), mm, t);
     }
     INFO(t.flat << " without a gradient, " << t.at_light << " at the light, " << t.no_half
                 << " with a half vector of no length");
-    CHECK(t.flat > 100000);
-    CHECK(t.at_light > 50000);
-    CHECK(t.no_half > 1000);
+    CHECK(t.flat > test::random_cases(100000));
+    CHECK(t.at_light > test::random_cases(50000));
+    CHECK(t.no_half > test::random_cases(1000));
     mm.report("raycast_light_factors (double)");
 }
 

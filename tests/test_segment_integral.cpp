@@ -113,7 +113,7 @@ TEST_CASE("the closed form agrees with the quadrature oracle on 200,000 random s
     // extinction among them). The largest difference is 5.1e-15 here and 2.3e-14 on a million segments (the size
     // this test had): both four orders below kOracleTolerance, so the million found nothing the bar can see, at five
     // times the cost (150-190 s, the heaviest test of the suite).
-    const int kTransferFunctions = 800, kSegmentsEach = 250;  // 200,000 segments
+    const int kTransferFunctions = 800, kSegmentsEach = int(test::random_cases(250));  // 200,000 segments
     double worst = 0.0;
     for (int f = 0; f < kTransferFunctions; ++f) {
         TransferFunction tf;

@@ -12,6 +12,28 @@
 
 namespace uvr::test {
 
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+inline constexpr bool kSanitized = true;
+#else
+inline constexpr bool kSanitized = false;
+#endif
+#else
+inline constexpr bool kSanitized = false;
+#endif
+
+// How many random cases a test draws through one code path: `n`, or an eighth of it in the build with the sanitizers
+// (scripts/test-sanitize.sh). The sanitizers check the memory accesses and the arithmetic along each path, which the
+// first thousands of cases already take; the full counts, sized for what the tests assert about their statistics, run
+// in the normal build. A floor a test asserts on a count of such cases scales the same way (docs/robustness.md).
+inline constexpr std::size_t kSanitizedCaseShare = 8;
+constexpr std::size_t random_cases(std::size_t n)
+{
+    return kSanitized ? n / kSanitizedCaseShare : n;
+}
+
 inline std::string data_path(const std::string& rel)
 {
     // Appended in place: `std::string(UVR_DATA_DIR) + "/" + rel` trips a false -Warray-bounds in gcc 12 at -O2.

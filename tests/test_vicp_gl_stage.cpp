@@ -11,6 +11,7 @@
 #include "bit_compare.h"
 #include "case_rng.h"
 #include "gl_harness.h"
+#include "test_support.h"
 #include "box_mesh.h"
 #include "gpu/pipeline/denormals.h"
 #include "gpu/vicp/gl_vicp_harness.h"
@@ -227,7 +228,7 @@ TEST_CASE("VICP's vertex program in GLSL computes the emulation's bits on 1,000,
 {
     GlVicpHarness& h = *gl(GlPlatform::osmesa).harness;
     VertexGen g(1);
-    std::vector<VicpVertexCase> cases(1000000);
+    std::vector<VicpVertexCase> cases(test::random_cases(1000000));
     for (auto& c : cases) c = g.make();
     const std::vector<VicpTet> r = h.run_vertex(cases);
     Mismatches mm;
@@ -239,7 +240,7 @@ TEST_CASE("VICP's vertex program in GLSL computes the emulation's bits on 1,000,
         compare_tets(e, r[i], i, mm);
     }
     INFO(flat << " flat tetrahedra");
-    CHECK(flat > 10000);
+    CHECK(flat > test::random_cases(10000));
     mm.report("vicp_tet_constants");
 }
 
@@ -269,7 +270,7 @@ TEST_CASE("VICP's fragment values in GLSL compute the emulation's bits on 1,200,
             cam.orthographic = true;
             cam.ortho_height = v.scene == &grid ? 9.0 : 1.2 * mesh_bounds(v.scene->mesh).extent().y;
         }
-        const ValueCases vc = frame_value_cases(*v.scene, cam, v.size, v.want, seed++);
+        const ValueCases vc = frame_value_cases(*v.scene, cam, v.size, test::random_cases(v.want), seed++);
         const std::vector<VicpSegment> r = h.run_values(vc.fc, vc.tets, vc.pixels);
         const FlushDenormals as_the_renderer_runs;
         for (std::size_t i = 0; i < vc.tets.size(); ++i) {
@@ -284,8 +285,8 @@ TEST_CASE("VICP's fragment values in GLSL compute the emulation's bits on 1,200,
         total += vc.tets.size();
     }
     INFO(total << " fragments, " << empty << " with segments of no length");
-    CHECK(total >= 1000000);
-    CHECK(empty > 50000);
+    CHECK(total >= test::random_cases(1000000));
+    CHECK(empty > test::random_cases(50000));
     mm.report("vicp_fragment_values (double)");
 }
 
@@ -297,18 +298,18 @@ TEST_CASE("VICP's compositing in GLSL computes the emulation's bits on 1,000,000
     uint64_t seed = 20;
     for (float threshold : {1.0f, 0.99f}) {
         CompositeGen g(seed++);
-        std::vector<VicpCompositeCase> cs(500000);
+        std::vector<VicpCompositeCase> cs(test::random_cases(500000));
         for (auto& c : cs) c = g.make(threshold);
         const VicpFrameConstants fc = composite_frame(threshold);
         compare_composite(fc, cs, h.run_composite(fc, cs), nullptr, mm, t);
     }
     INFO(t.cases << " cases, " << t.killed << " killed, " << t.lookups << " lookups, " << t.no_length
                  << " without length, " << t.ordering_errors << " counted ordering errors");
-    CHECK(t.cases >= 1000000);
-    CHECK(t.killed > 10000);
-    CHECK(t.lookups > 100000);
-    CHECK(t.no_length > 100000);
-    CHECK(t.ordering_errors > 100000);
+    CHECK(t.cases >= test::random_cases(1000000));
+    CHECK(t.killed > test::random_cases(10000));
+    CHECK(t.lookups > test::random_cases(100000));
+    CHECK(t.no_length > test::random_cases(100000));
+    CHECK(t.ordering_errors > test::random_cases(100000));
     mm.report("vicp_composite");
 }
 
@@ -328,12 +329,12 @@ TEST_CASE("VICP's compositing in GLSL with the table in a real 3D texture comput
         fc.length_bias = table.length_bias();
         const SegmentShader lookup = [&](float uf, float ub, float tz, float) { return table.sample(uf, ub, tz, cpu); };
         CompositeGen g(seed++);
-        std::vector<VicpCompositeCase> cs(150000);
+        std::vector<VicpCompositeCase> cs(test::random_cases(150000));
         for (auto& c : cs) c = g.make(0.99f);
         compare_composite(fc, cs, h.run_composite(fc, cs, &table), &lookup, mm, t);
     }
     INFO(t.lookups << " table lookups in " << t.cases << " cases (FMA3: " << cpu.fma << ")");
-    CHECK(t.lookups > 100000);
+    CHECK(t.lookups > test::random_cases(100000));
     mm.report("vicp_composite with the table");
 }
 
