@@ -11,8 +11,6 @@
 #include <sstream>
 #include <thread>
 
-#include <sys/resource.h>
-
 #include <nlohmann/json.hpp>
 
 #include "bench/options.h"
@@ -56,9 +54,7 @@ std::string cpu_model()
 
 double peak_rss_mib()
 {
-    rusage ru{};
-    getrusage(RUSAGE_SELF, &ru);
-    return double(ru.ru_maxrss) / 1024.0;  // kilobytes on Linux
+    return double(peak_memory_bytes()) / (1024.0 * 1024.0);
 }
 
 // Times one configuration of one algorithm: builds its renderer (build_ms), renders warmup + repeat frames, and keeps

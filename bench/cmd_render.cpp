@@ -8,6 +8,8 @@
 #include "bench/options.h"
 #include "bench/algorithms.h"
 #include "bench/commands.h"
+#include "bench/render_parallel.h"
+#include "distributed/mpi_session.h"
 #include "reference/error.h"
 #include "reference/io_util.h"
 
@@ -60,6 +62,15 @@ void register_render(CLI::App& app)
         const std::string ext = file_extension(a->out);
         if (ext != ".npy" && ext != ".exr" && ext != ".png")
             throw InputError(a->out, "unsupported image extension (use .npy, .exr or .png)");
+        if (mpi::active()) {
+            if (a->algo != "reference")
+                throw mpi::RanksFailed("",
+                                       "under mpirun, uvr render runs --algo reference (the data-parallel "
+                                       "reference); --algo " +
+                                           a->algo + " runs in one process");
+            render_reference_parallel(a->scene, a->out, a->json);
+            return;
+        }
         a->algo_options.require_diagnostics = !a->diagnostics.empty();
         const Scene s = setup_scene(a->scene);
         const AlgoResult r = run_algorithm(s, a->algo, a->algo_options);

@@ -4,13 +4,27 @@
 
 #include <cstdio>
 #include <new>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
 #include "bench/commands.h"
+#include "distributed/mpi_session.h"
 #include "reference/error.h"
 
 namespace uvr::cli {
+
+namespace {
+
+// The exit status of a failure on this rank alone: under MPI the other ranks may wait for it in a collective call, so
+// every rank is ended with it (mpi::abort_all); without MPI it is returned.
+int failed(int code)
+{
+    if (code != 0) mpi::abort_all(code);
+    return code;
+}
+
+}  // namespace
 
 int run_program(int argc, char** argv)
 {
@@ -26,20 +40,27 @@ int run_program(int argc, char** argv)
     register_budget(app);
     register_partition(app);
     register_demo(app);
+    // Under mpirun every rank runs the program; a failure that not every rank knows of ends them all (failed()).
+    const mpi::Session session(argc, argv);
     try {
+        if (mpi::active() && (argc < 2 || std::string(argv[1]) != "render"))
+            throw mpi::RanksFailed("", "under mpirun, uvr runs render only (the data-parallel reference)");
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         const int rc = app.exit(e);
-        return rc == 0 ? 0 : kExitUsage;
+        return failed(rc == 0 ? 0 : kExitUsage);
+    } catch (const mpi::RanksFailed& e) {
+        if (mpi::rank() == 0) std::fprintf(stderr, "uvr: %s\n", e.what());
+        return kExitInputError;
     } catch (const uvr::InputError& e) {
         std::fprintf(stderr, "uvr: %s\n", e.what());
-        return kExitInputError;
+        return failed(kExitInputError);
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "uvr: out of memory\n");
-        return kExitInputError;
+        return failed(kExitInputError);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "uvr: internal error: %s\n", e.what());
-        return kExitInternal;
+        return failed(kExitInternal);
     }
     return 0;
 }

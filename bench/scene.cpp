@@ -56,7 +56,10 @@ Scene setup_scene(const SceneOptions& o)
     return setup_scene(load_input(o.input), o);
 }
 
-Scene setup_scene(Dataset data, const SceneOptions& o)
+namespace {
+
+// The scene of `data`, with the whole's extent where `whole` is given.
+Scene setup_with_extent(Dataset data, const SceneOptions& o, const SceneExtent* whole)
 {
     Scene s;
     parse_size(o.size, s.width, s.height);
@@ -74,6 +77,10 @@ Scene setup_scene(Dataset data, const SceneOptions& o)
             throw InputError(s.data.volume->source, "is a regular grid with one scalar; --field is for meshes");
         b = volume_bounds(*s.data.volume);
         range = volume_range(*s.data.volume);
+    }
+    if (whole) {
+        b = whole->bounds;
+        range = whole->range;
     }
     // The default: over a regular grid transparent around the histogram's dominant (background) value; --tf
     // preset:NAME puts one of ParaView's colour maps on the default's extinction.
@@ -103,6 +110,18 @@ Scene setup_scene(Dataset data, const SceneOptions& o)
     }
     if (s.data.mesh) s.topology = std::make_unique<MeshTopology>(build_topology(*s.data.mesh));
     return s;
+}
+
+}  // namespace
+
+Scene setup_scene(Dataset data, const SceneOptions& o)
+{
+    return setup_with_extent(std::move(data), o, nullptr);
+}
+
+Scene setup_scene(Dataset data, const SceneOptions& o, const SceneExtent& whole)
+{
+    return setup_with_extent(std::move(data), o, &whole);
 }
 
 }  // namespace uvr::cli

@@ -55,5 +55,12 @@ struct Scene {
 Scene setup_scene(const SceneOptions& o);
 // The same on data already loaded (o.input names only the field; its path is not read).
 Scene setup_scene(Dataset data, const SceneOptions& o);
+// The whole data's bounds and field range, where `data` holds a part of it (a rank's pieces): the default camera and
+// transfer function are then the whole's, as one process reading everything sets them.
+struct SceneExtent {
+    Bounds bounds;
+    Range range;
+};
+Scene setup_scene(Dataset data, const SceneOptions& o, const SceneExtent& whole);
 
 }  // namespace uvr::cli

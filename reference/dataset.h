@@ -45,6 +45,10 @@ Dataset read_vtk_xml(const std::string& path);            // .vtu UnstructuredGr
 // .pvtu PUnstructuredGrid: its pieces (.vtu, relative to its directory) joined into one mesh, in piece order, with
 // Dataset::piece_of_cell; every piece must hold the same fields.
 Dataset read_pvtu(const std::string& path);
+// The pieces dealt to `rank` of `ranks` (contiguous, as even as the counts allow: rank r reads pieces
+// [r P / ranks, (r + 1) P / ranks) of P), joined; piece_of_cell holds their indices in the whole file. Throws
+// InputError naming the file when it has fewer pieces than ranks, and naming the piece that is missing or bad.
+Dataset read_pvtu(const std::string& path, std::size_t rank, std::size_t ranks);
 Dataset read_tetgen(const std::string& path);             // .node + .ele (either name given)
 Dataset read_off(const std::string& path);                // tetrahedral OFF
 Dataset read_plot3d(const std::string& xyz_path, const std::string& q_path);

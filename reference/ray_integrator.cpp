@@ -231,7 +231,17 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, double t_
     }
 }
 
-glm::dvec4 RayIntegrator::integrate(const Ray& in, RayStats& stats) const
+glm::dvec4 RayIntegrator::integrate(const Ray& ray, RayStats& stats) const
+{
+    return trace(ray, stats, nullptr);
+}
+
+void RayIntegrator::runs(const Ray& ray, RayStats& stats, std::vector<RayRun>& out) const
+{
+    trace(ray, stats, &out);
+}
+
+glm::dvec4 RayIntegrator::trace(const Ray& in, RayStats& stats, std::vector<RayRun>* runs) const
 {
     const Embree& E = *embree_;
     // An origin inside the mesh's bounds may lie inside the mesh, where no boundary face is ahead to enter through.
@@ -286,8 +296,12 @@ glm::dvec4 RayIntegrator::integrate(const Ray& in, RayStats& stats) const
         used.push_back(face);
         ++stats.entries;
         double t_out = t_in;
-        const int32_t left = walk(ray, face, t_in, back, acc, t_out, stats);
-        if (left < 0 || acc.a >= kReferenceOpaque) break;
+        glm::dvec4 run(0.0);
+        const int32_t left = walk(ray, face, t_in, back, runs ? run : acc, t_out, stats);
+        // A run's own opacity hides what lies behind it on this ray as the whole accumulator's does.
+        const double alpha = runs ? run.a : acc.a;
+        if (runs && t_out > back) runs->push_back({std::max(t_in, back) - back, t_out - back, run});
+        if (left < 0 || alpha >= kReferenceOpaque) break;
         used.push_back(left);
         t_min = t_out;
     }

@@ -29,6 +29,12 @@ struct RayStats {
     uint64_t failures = 0;       // rays abandoned by the walk's guards (must stay 0; reported, never hidden)
 };
 
+// One run of a ray through the mesh: its distances along the ray (t_in <= t_out) and its premultiplied RGBA.
+struct RayRun {
+    double t_in = 0.0, t_out = 0.0;
+    glm::dvec4 rgba{0.0};
+};
+
 class RayIntegrator {
 public:
     // `field` indexes mesh.fields. The mesh and topology must outlive the integrator.
@@ -42,11 +48,20 @@ public:
     // point behind it, outside the mesh's bounds, and only what lies at t >= 0 is composited.
     glm::dvec4 integrate(const Ray& ray, RayStats& stats) const;
 
+    // The same ray as runs: one per maximal stretch of the mesh's cells along it (entry through a boundary face to
+    // exit through one), each composited on its own from transparent, appended to `runs` front to back. Compositing
+    // the runs front to back gives integrate()'s colour up to the order of the additions: on a part of a mesh (a
+    // piece whose boundary includes cut faces) they are the fragments data-parallel rendering exchanges.
+    void runs(const Ray& ray, RayStats& stats, std::vector<RayRun>& runs) const;
+
     // The scalar at world point p inside tetrahedron t (linear interpolation).
     double scalar_at(uint32_t t, const glm::dvec3& p) const;
 
 private:
     struct Embree;
+    // The loop over the ray's entries through the boundary: with `runs` null, every walk composites into one
+    // accumulator (integrate); otherwise each walk's run starts transparent and is appended.
+    glm::dvec4 trace(const Ray& ray, RayStats& stats, std::vector<RayRun>* runs) const;
     // The walk from boundary face `face` entered at ray parameter t_in, compositing into acc what lies at t >= t_clip;
     // returns the boundary face it leaves through and sets t_out.
     int32_t walk(const Ray& ray, int32_t face, double t_in, double t_clip, glm::dvec4& acc, double& t_out,

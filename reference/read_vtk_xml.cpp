@@ -572,9 +572,11 @@ std::string field_list(const TetMesh& mesh)
 }
 
 // Appends `piece` to `mesh`: its points after mesh's, its tetrahedra renumbered, its fields' values after mesh's.
-void join_piece(XmlFile& f, TetMesh& mesh, const TetMesh& piece, std::size_t index, const std::string& piece_path)
+// Appends `piece` (piece `index` of the file) to `mesh`; `first`: the first piece joined.
+void join_piece(XmlFile& f, TetMesh& mesh, const TetMesh& piece, std::size_t index, const std::string& piece_path,
+                bool first)
 {
-    if (index > 0 && field_list(piece) != field_list(mesh))
+    if (!first && field_list(piece) != field_list(mesh))
         f.fail("piece " + std::to_string(index) + " (" + piece_path + ") holds the fields " + field_list(piece) +
                ", the first piece " + field_list(mesh) + ": every piece must hold the same fields");
     if (mesh.points.size() + piece.points.size() > UINT32_MAX)
@@ -582,7 +584,7 @@ void join_piece(XmlFile& f, TetMesh& mesh, const TetMesh& piece, std::size_t ind
     const uint32_t base = uint32_t(mesh.points.size());
     mesh.points.insert(mesh.points.end(), piece.points.begin(), piece.points.end());
     for (const Tet& t : piece.tets) mesh.tets.push_back({t[0] + base, t[1] + base, t[2] + base, t[3] + base});
-    if (index == 0) mesh.fields = std::vector<ScalarField>(piece.fields.size());
+    if (first) mesh.fields = std::vector<ScalarField>(piece.fields.size());
     for (std::size_t i = 0; i < piece.fields.size(); ++i) {
         ScalarField& to = mesh.fields[i];
         to.name = piece.fields[i].name;
@@ -594,6 +596,11 @@ void join_piece(XmlFile& f, TetMesh& mesh, const TetMesh& piece, std::size_t ind
 }  // namespace
 
 Dataset read_pvtu(const std::string& path)
+{
+    return read_pvtu(path, 0, 1);
+}
+
+Dataset read_pvtu(const std::string& path, std::size_t rank, std::size_t ranks)
 {
     const std::string data = read_file_bytes(path);
     if (data.empty()) throw InputError(path, "empty file (not a VTK XML file)");
@@ -611,8 +618,18 @@ Dataset read_pvtu(const std::string& path)
     TetMesh mesh;
     mesh.source = path;
     nlohmann::json pieces = nlohmann::json::array();
+    const std::size_t count = std::size_t(std::distance(grid.children("Piece").begin(), grid.children("Piece").end()));
+    if (count == 0) f.fail("the PUnstructuredGrid has no Piece");
+    if (count < ranks)
+        f.fail("has " + std::to_string(count) + " pieces for " + std::to_string(ranks) +
+               " ranks: run at most as many ranks as pieces (uvr partition --parts N writes N)");
+    const std::size_t first = rank * count / ranks, last = (rank + 1) * count / ranks;
     std::size_t index = 0;
     for (const pugi::xml_node& piece : grid.children("Piece")) {
+        if (index < first || index >= last) {
+            ++index;
+            continue;
+        }
         const std::string source = piece.attribute("Source").value();
         if (source.empty()) f.fail("Piece " + std::to_string(index) + " has no Source attribute");
         const std::string piece_path = source.front() == '/' ? source : directory_of(path) + source;
@@ -620,13 +637,12 @@ Dataset read_pvtu(const std::string& path)
             f.fail("piece " + std::to_string(index) + ": " + piece_path + " does not exist");
         Dataset d = read_vtk_xml(piece_path);
         if (!d.mesh) f.fail("piece " + std::to_string(index) + " (" + piece_path + ") is not an UnstructuredGrid");
-        join_piece(f, mesh, *d.mesh, index, piece_path);
+        join_piece(f, mesh, *d.mesh, index, piece_path, index == first);
         out.piece_of_cell.insert(out.piece_of_cell.end(), d.mesh->tets.size(), uint32_t(index));
         pieces.push_back({{"source", source}, {"points", d.mesh->points.size()}, {"tetrahedra", d.mesh->tets.size()}});
         for (std::string& w : d.warnings) out.warnings.push_back(std::move(w));
         ++index;
     }
-    if (index == 0) f.fail("the PUnstructuredGrid has no Piece");
     // Each piece was finalized by its reader; joining them renumbers indices only, so the invariants hold.
     out.mesh = std::move(mesh);
     out.info_json = nlohmann::json({{"format", "VTK PUnstructuredGrid"}, {"pieces", pieces}}).dump();

@@ -38,15 +38,21 @@ Image render_rays(const Integrator& integrator, const Camera& camera, int width,
             progress(double(n) / (double(width) * double(height)));
         }
     });
-    stats.rays = uint64_t(width) * uint64_t(height);
-    stats.segments = segments;
-    stats.entries = entries;
-    stats.failures = failures;
-    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    finish_reference_stats(stats, width, height, RayStats{segments, entries, failures}, t0);
     return img;
 }
 
 }  // namespace
+
+void finish_reference_stats(ReferenceStats& stats, int width, int height, const RayStats& rays,
+                            std::chrono::steady_clock::time_point t0)
+{
+    stats.rays = uint64_t(width) * uint64_t(height);
+    stats.segments = rays.segments;
+    stats.entries = rays.entries;
+    stats.failures = rays.failures;
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 Image render_reference(const RayIntegrator& integrator, const Camera& camera, int width, int height,
                        ReferenceStats& stats, const std::function<void(double)>& progress)

@@ -1,6 +1,7 @@
 // Rendering a whole image with the ground truth: one ray per pixel (docs/spec.md §2), tiles in parallel.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -19,6 +20,10 @@ struct ReferenceStats {
     uint64_t failures = 0;  // rays abandoned by the walk's guards: must be 0
     double seconds = 0.0;
 };
+
+// `stats` of width x height rays that did `rays` together, started at t0 (what every image of rays reports).
+void finish_reference_stats(ReferenceStats& stats, int width, int height, const RayStats& rays,
+                            std::chrono::steady_clock::time_point t0);
 
 // Every pixel is computed independently in double and rounded to float once, so the image does not depend on the
 // number of threads. `progress` (may be empty) is called with the fraction done, from one thread at a time.

@@ -111,13 +111,14 @@ struct CommandResult {
 };
 
 // Runs the `uvr` program with `args` (shell-quoted by the caller), capturing stdout and stderr separately.
-// `env`: variable assignments for this run only ("NAME=value ...", as a shell takes them before a command).
-inline CommandResult run_uvr(const std::string& args, const std::string& env = "")
+// `env`: variable assignments for this run only ("NAME=value ...", as a shell takes them before a command);
+// `launcher`: a command that runs the program (mpirun and its options), or "".
+inline CommandResult run_uvr(const std::string& args, const std::string& env = "", const std::string& launcher = "")
 {
     TempDir tmp("run");
     const std::string out = tmp.file("stdout"), err = tmp.file("stderr");
-    const std::string cmd =
-        env + (env.empty() ? "" : " ") + "'" + UVR_BINARY + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
+    const std::string cmd = env + (env.empty() ? "" : " ") + launcher + (launcher.empty() ? "" : " ") + "'" +
+                            UVR_BINARY + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
     const int status = std::system(cmd.c_str());
     CommandResult r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);

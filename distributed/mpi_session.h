@@ -1,0 +1,47 @@
+// MPI for the `uvr` program (docs/distributed.md): initialized only when a launcher (mpirun) started the process, so a
+// plain run never pays for MPI_Init; every rank ends on a failure of any rank, with the failing rank's message.
+#pragma once
+
+#include <string>
+
+#include "reference/error.h"
+#include "reference/mesh.h"
+
+namespace uvr::mpi {
+
+// True when a launcher started this process: Open MPI's mpirun sets OMPI_COMM_WORLD_SIZE, PMIx launchers PMIX_RANK,
+// older ones PMI_RANK.
+bool launched();
+
+// MPI for the lifetime of the program: initialized by the constructor when launched(), finalized by the destructor.
+class Session {
+public:
+    Session(int& argc, char**& argv);
+    ~Session();
+    Session(const Session&) = delete;
+    Session& operator=(const Session&) = delete;
+};
+
+bool active();  // a Session initialized MPI
+int rank();     // 0 without MPI
+int ranks();    // 1 without MPI
+
+// The failure of one or more ranks, known to every rank: what() names each failed rank and its message. Rank 0
+// reports it; the others exit with the same status silently.
+class RanksFailed : public InputError {
+public:
+    using InputError::InputError;
+};
+
+// The end of a stage, on every rank: `error` is this rank's failure ("" for none). When any rank failed, every rank
+// throws RanksFailed with all the failed ranks' messages; otherwise every rank goes on. Collective.
+void agree(const std::string& error);
+
+// The whole data's bounds and field range from each rank's part (componentwise min and max). Collective.
+void reduce_extent(Bounds& bounds, Range& range);
+
+// Ends every rank at once with exit status `code` (a failure some ranks may not know of: they could be waiting in a
+// collective call). Returns only without MPI.
+void abort_all(int code);
+
+}  // namespace uvr::mpi

@@ -1,0 +1,275 @@
+// The data-parallel reference (docs/distributed.md): fragments of parts composited into the whole mesh's image, in one
+// process and across MPI ranks under mpirun; the bands; every rank ending on any rank's failure.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include <nlohmann/json.hpp>
+
+#include "distributed/exchange.h"
+#include "mesh_scenes.h"
+#include "reference/fragments.h"
+#include "reference/partition.h"
+#include "reference/reference_renderer.h"
+#include "test_support.h"
+
+using namespace uvr;
+using test::CommandResult;
+using test::TempDir;
+
+namespace {
+
+// docs/distributed.md's promise: the data-parallel image equals the one-process reference within 1e-6 in every
+// channel. The parts' runs of a ray are disjoint, so only the order of the additions differs (about 1e-16 in double);
+// the float32 images measured so far are identical.
+constexpr double kDistributedTolerance = 1e-6;
+
+// A data-parallel run that hangs instead of ending is stopped after this many seconds and fails; one that ends on a
+// rank's failure takes about one second here (mpirun's start included).
+constexpr int kHangSeconds = 60;
+
+struct ImageDiff {
+    double max = 0.0;
+    std::size_t differing = 0, covered = 0;
+};
+
+ImageDiff diff(const Image& a, const Image& b)
+{
+    REQUIRE(a.width == b.width);
+    REQUIRE(a.height == b.height);
+    ImageDiff d;
+    for (std::size_t p = 0; p < a.rgba.size() / 4; ++p) {
+        bool differs = false;
+        for (int c = 0; c < 4; ++c) {
+            const double e = std::fabs(double(a.rgba[4 * p + std::size_t(c)]) - double(b.rgba[4 * p + std::size_t(c)]));
+            d.max = std::max(d.max, e);
+            differs |= e > 0.0;
+        }
+        d.differing += differs ? 1 : 0;
+        d.covered += a.rgba[4 * p + 3] > 0.0f ? 1 : 0;
+    }
+    return d;
+}
+
+// The scene's parts traced on their own and composited, in one process.
+Image composite_of_parts(const test::Scene& s, const std::vector<uint32_t>& part_of, uint32_t parts, const Camera& cam,
+                         int w, int h, std::size_t& fragments)
+{
+    std::vector<Fragment> all;
+    for (uint32_t p = 0; p < parts; ++p) {
+        const TetMesh part = extract_part(s.mesh, part_of, p);
+        const MeshTopology topo = build_topology(part);
+        const RayIntegrator integrator(part, topo, s.field, s.tf);
+        ReferenceStats st;
+        const std::vector<Fragment> f = trace_fragments(integrator, cam, w, h, st);
+        CHECK(st.failures == 0);
+        all.insert(all.end(), f.begin(), f.end());
+    }
+    fragments = all.size();
+    Image image(w, h);
+    composite_fragments(all, image);
+    return image;
+}
+
+Image reference_of(const test::Scene& s, const Camera& cam, int w, int h)
+{
+    const RayIntegrator integrator(s.mesh, s.topo, s.field, s.tf);
+    ReferenceStats st;
+    return render_reference(integrator, cam, w, h, st);
+}
+
+std::string mpirun(int ranks)
+{
+    return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 timeout " + std::to_string(kHangSeconds) + " '" +
+           std::string(UVR_MPIEXEC) + "' --oversubscribe -np " + std::to_string(ranks);
+}
+
+CommandResult run_ranks(int ranks, const std::string& args)
+{
+    return test::run_uvr(args, "", mpirun(ranks));
+}
+
+std::string quoted(const std::string& s)
+{
+    return "'" + s + "'";
+}
+
+// `uvr partition` of `input` (the data's options) into `parts` by `method`; returns the .pvtu's path.
+std::string partition(const std::string& input, const std::string& name, int parts, const std::string& method,
+                      const TempDir& dir)
+{
+    const std::string out = dir.file(name);
+    const CommandResult r = test::run_uvr("partition " + input + " --parts " + std::to_string(parts) + " --method " +
+                                          method + " --out " + quoted(out));
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    for (const auto& e : std::filesystem::directory_iterator(out))
+        if (e.path().extension() == ".pvtu") return e.path().string();
+    FAIL("no .pvtu in " << out);
+    return "";
+}
+
+}  // namespace
+
+TEST_CASE("the parts of a mesh traced on their own and composited give the whole mesh's reference")
+{
+    const test::Scene fin = test::blunt_fin();
+    const test::Scene torus = test::make_scene(load_builtin("builtin:torus-small"), 0);
+    for (const test::Scene* s : {&fin, &torus})
+        for (PartitionMethod method : {PartitionMethod::rcb, PartitionMethod::metis})
+            for (const auto& [az, el] : {std::pair{0.0, 0.0}, {-40.0, 70.0}}) {
+                const Camera cam = default_camera(mesh_bounds(s->mesh), 1.0, az, el);
+                const std::vector<uint32_t> part_of = partition_mesh(s->mesh, 5, method);
+                std::size_t fragments = 0;
+                const Image parts = composite_of_parts(*s, part_of, 5, cam, 96, 96, fragments);
+                const ImageDiff d = diff(parts, reference_of(*s, cam, 96, 96));
+                INFO(s->mesh.source << ", view " << az << "," << el << ": " << fragments << " fragments, "
+                                    << d.differing << " of " << d.covered << " covered pixels differ, by at most "
+                                    << d.max);
+                CHECK(d.covered > 1000);
+                CHECK(fragments > d.covered);  // rays cross parts: more fragments than covered pixels
+                CHECK(d.max <= kDistributedTolerance);
+            }
+}
+
+TEST_CASE("compositing fragments does not depend on the order they arrive in")
+{
+    const test::Scene torus = test::make_scene(load_builtin("builtin:torus-small"), 0);
+    const Camera cam = default_camera(mesh_bounds(torus.mesh), 1.0, 30.0, 20.0);
+    std::size_t fragments = 0;
+    const Image sorted = composite_of_parts(torus, partition_rcb(torus.mesh, 4), 4, cam, 64, 64, fragments);
+    std::vector<Fragment> all;
+    for (uint32_t p = 0; p < 4; ++p) {
+        const std::vector<uint32_t> part_of = partition_rcb(torus.mesh, 4);
+        const TetMesh part = extract_part(torus.mesh, part_of, p);
+        const MeshTopology topo = build_topology(part);
+        ReferenceStats st;
+        const std::vector<Fragment> f = trace_fragments(RayIntegrator(part, topo, 0, torus.tf), cam, 64, 64, st);
+        all.insert(all.end(), f.begin(), f.end());
+    }
+    std::shuffle(all.begin(), all.end(), std::mt19937(7));
+    Image shuffled(64, 64);
+    composite_fragments(all, shuffled);
+    CHECK(shuffled.rgba == sorted.rgba);
+}
+
+TEST_CASE("pixel bands hold about equal shares of the fragments")
+{
+    CHECK(mpi::balanced_bands({0, 0, 10, 0, 10, 0}, 2) == std::vector<int>{0, 3, 6});
+    // A row with more than a share: the band after it is empty.
+    CHECK(mpi::balanced_bands({0, 100, 0, 0}, 3) == std::vector<int>{0, 2, 2, 4});
+    // No fragments at all: the rows split evenly.
+    CHECK(mpi::balanced_bands({0, 0, 0, 0, 0}, 2) == std::vector<int>{0, 2, 5});
+    CHECK(mpi::balanced_bands({5, 5, 5, 5}, 1) == std::vector<int>{0, 4});
+}
+
+TEST_CASE("mpirun: the data-parallel reference equals the one-process reference, rcb and metis parts, 1 to 4 ranks")
+{
+    TempDir dir("mpi");
+    const std::string fin = quoted(test::data_path("vtk-data/bluntfinxyz.bin")) + " --q " +
+                            quoted(test::data_path("vtk-data/bluntfinq.bin"));
+    const std::string post = quoted(test::data_path("vtk-data/postxyz.bin")) + " --q " +
+                             quoted(test::data_path("vtk-data/postq.bin")) + " --field StagnationEnergy";
+    // A camera inside the Oxygen Post's flow region, and one whose image plane cuts it.
+    const std::string inside =
+        dir.write("inside.json", R"({"eye": [0, 1.5, 0.5], "target": [5, 0, 2], "up": [0, 0, 1], "fovy_deg": 100})");
+    const std::string cut =
+        dir.write("cut.json", R"({"eye": [2, -3, 2.4], "target": [-5, 5, 2], "up": [0, 0, 1], "fovy_deg": 80})");
+    struct Case {
+        std::string name, input, method;
+        int parts;
+        std::vector<int> ranks;
+        std::vector<std::string> views;
+    };
+    const std::vector<Case> cases = {
+        {"torus", "builtin:torus-small", "rcb", 4, {1, 3}, {"--view 30,20"}},
+        {"fin", fin, "rcb", 4, {2, 4}, {"--view 0,0", "--view -40,70"}},
+        {"fin-metis", fin, "metis", 5, {2, 3}, {"--view -40,70"}},
+        {"post", post, "rcb", 3, {3}, {"--camera " + quoted(inside), "--camera " + quoted(cut)}},
+        {"post-metis", post, "metis", 4, {4}, {"--camera " + quoted(inside)}}};
+    for (const Case& c : cases) {
+        const std::string pvtu = partition(c.input, c.name, c.parts, c.method, dir);
+        const std::string field = c.name.rfind("post", 0) == 0 ? " --field StagnationEnergy" : "";
+        for (const std::string& view : c.views) {
+            const std::string common = " --size 96x80 " + view + " --no-cache --out ";
+            const std::string one = dir.file(c.name + "-one.npy");
+            REQUIRE(test::run_uvr("render " + c.input + common + quoted(one)).exit_code == 0);
+            // The .pvtu read in one process renders as the original mesh.
+            const std::string joined = dir.file(c.name + "-joined.npy");
+            REQUIRE(test::run_uvr("render " + quoted(pvtu) + field + common + quoted(joined)).exit_code == 0);
+            CHECK(diff(read_npy(joined), read_npy(one)).max <= kDistributedTolerance);
+            for (int n : c.ranks) {
+                const std::string out = dir.file(c.name + "-" + std::to_string(n) + ".npy");
+                const CommandResult r =
+                    run_ranks(n, "render " + quoted(pvtu) + field + common + quoted(out) + " --json");
+                INFO(c.name << " (" << c.parts << " " << c.method << " parts) on " << n << " ranks, " << view << "\n"
+                            << r.err);
+                REQUIRE(r.exit_code == 0);
+                const ImageDiff d = diff(read_npy(out), read_npy(one));
+                INFO(d.differing << " of " << d.covered << " covered pixels differ, by at most " << d.max);
+                CHECK(d.covered > 500);
+                CHECK(d.max <= kDistributedTolerance);
+                // Every rank reports its part; the fragments sent are the fragments received.
+                const nlohmann::json j = nlohmann::json::parse(r.out);
+                REQUIRE(j["ranks"].size() == std::size_t(n));
+                uint64_t sent = 0, received = 0, cells = 0;
+                for (const auto& rank : j["ranks"]) {
+                    sent += rank["fragments_sent"].get<uint64_t>();
+                    received += rank["fragments_received"].get<uint64_t>();
+                    cells += rank["cells"].get<uint64_t>();
+                    CHECK(rank["peak_memory_bytes"].get<uint64_t>() > 0);
+                }
+                CHECK(sent == received);
+                CHECK(j["failures"] == 0);
+                CHECK(cells > 0);
+            }
+        }
+    }
+}
+
+TEST_CASE("mpirun: a rank that cannot read its piece ends every rank, with the piece named and no image")
+{
+    TempDir dir("mpi-fail");
+    const std::string pvtu = partition("builtin:torus-small", "torus", 4, "rcb", dir);
+    const std::string piece = std::filesystem::path(pvtu).parent_path() / "torus-small_2.vtu";
+    REQUIRE(std::filesystem::exists(piece));
+    for (const bool missing : {true, false}) {
+        if (missing)
+            std::filesystem::remove(piece);
+        else
+            dir.write("torus/torus-small_2.vtu", "<VTKFile type=\"UnstructuredGrid\">");
+        const std::string out = dir.file("never.npy");
+        const auto t0 = std::chrono::steady_clock::now();
+        const CommandResult r = run_ranks(4, "render " + quoted(pvtu) + " --size 32x32 --out " + quoted(out));
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        INFO((missing ? "missing" : "truncated") << " piece: " << r.err);
+        CHECK(r.exit_code != 0);
+        CHECK(r.exit_code != 124);  // `timeout` ended a hang
+        CHECK(seconds < kHangSeconds);
+        CHECK_THAT(r.err, Catch::Contains("rank 2") && Catch::Contains("torus-small_2.vtu"));
+        CHECK_FALSE(std::filesystem::exists(out));
+    }
+}
+
+TEST_CASE("mpirun: what the data-parallel run cannot do is refused on every rank")
+{
+    TempDir dir("mpi-refuse");
+    const std::string pvtu = partition("builtin:torus-small", "torus", 2, "rcb", dir);
+    const std::string out = " --size 16x16 --out " + quoted(dir.file("never.npy"));
+    const struct {
+        int ranks;
+        std::string args, message;
+    } cases[] = {{2, "render builtin:torus-small" + out, "reads a .pvtu of pieces"},
+                 {3, "render " + quoted(pvtu) + out, "has 2 pieces for 3 ranks"},
+                 {2, "render " + quoted(pvtu) + " --algo havs" + out, "runs --algo reference"},
+                 {2, "info " + quoted(pvtu), "runs render only"}};
+    for (const auto& c : cases) {
+        const CommandResult r = run_ranks(c.ranks, c.args);
+        INFO(c.args << "\n" << r.err);
+        CHECK(r.exit_code != 0);
+        CHECK(r.exit_code != 124);
+        CHECK_THAT(r.err, Catch::Contains(c.message));
+        CHECK_FALSE(std::filesystem::exists(dir.file("never.npy")));
+    }
+}
