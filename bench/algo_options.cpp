@@ -16,6 +16,7 @@
 #include "gpu/vicp/vicp_order.h"
 #include "reference/choice.h"
 #include "reference/error.h"
+#include "reference/partition.h"
 
 namespace uvr::cli {
 
@@ -233,6 +234,18 @@ void add_raycast_rows(std::vector<AlgoOption>& t)
     t.push_back(choice("volume-format", "Ray caster: the volume texture", kVolumeFormats, &AlgoOptions::volume_format));
 }
 
+// Sort-last compositing in one process: the parts and how the mesh is split.
+void add_sort_last_rows(std::vector<AlgoOption>& t)
+{
+    t.push_back(value("parts",
+                      "HAVS, VICP: render the mesh in N parts, each on its own, and blend their images back to "
+                      "front in the order of their boxes (sort-last, as data-parallel renderers do); 1: the whole mesh",
+                      "1", [](AlgoOptions& a, const std::string& v) {
+                          a.parts = int(parse_whole("parts", v, 1, 4096, "a whole number from 1 to 4096"));
+                      }));
+    t.push_back(choice("partition", "With --parts", kPartitionMethods, &AlgoOptions::partition));
+}
+
 // Every row, in the order help texts list them.
 std::vector<AlgoOption> make_table()
 {
@@ -243,6 +256,7 @@ std::vector<AlgoOption> make_table()
     add_integration_rows(t);
     add_reference_rows(t);
     add_raycast_rows(t);
+    add_sort_last_rows(t);
     return t;
 }
 

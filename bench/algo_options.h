@@ -39,6 +39,8 @@ struct AlgoOptions {
     bool preintegrate = false;
     std::string light;  // "X,Y,Z"
     std::string volume_format = "native";
+    int parts = 1;                  // HAVS, VICP: sort-last on this many parts (bench/sort_last.h); 1: the whole mesh
+    std::string partition = "rcb";  // with parts > 1: how the mesh is split (reference/partition.h)
 };
 
 // One option of the table. The program spells it --NAME; Python's keyword is NAME with '_' for '-' (or `python`).

@@ -39,6 +39,10 @@ nlohmann::json switches_json(const std::string& algo, const AlgoOptions& o)
         j["ties"] = o.ties;
     }
     if (algo == "vicp") j["order"] = o.order;
+    if (o.parts > 1) {
+        j["parts"] = o.parts;
+        j["partition"] = o.partition;
+    }
     if (algo == "raycast") {
         j["step"] = o.step;
         j["preintegrate"] = o.preintegrate;
@@ -113,7 +117,7 @@ std::optional<nlohmann::json> finished_budget(const std::string& dir, const std:
 
 }  // namespace
 
-std::vector<BudgetFactor> budget_factors(const std::string& algo)
+std::vector<BudgetFactor> budget_factors(const std::string& algo, const AlgoOptions& user)
 {
     // Each factor's switch, applied to the baseline's options from the user's; the three every algorithm has.
     const auto table = [](AlgoOptions& run, const AlgoOptions& user) {
@@ -179,6 +183,14 @@ std::vector<BudgetFactor> budget_factors(const std::string& algo)
                  "the rasterizer's coverage: pixels chosen by the snapped (fixed-point) triangle instead of "
                  "by the ray through the pixel centre crossing the primitive",
                  [](AlgoOptions& run, const AlgoOptions& user) { run.coverage = user.coverage; }});
+    if (user.parts > 1)
+        f.push_back({"partition",
+                     "sort-last compositing: the mesh in parts, each rendered on its own and the images blended "
+                     "back to front in the order of the parts' boxes, instead of the whole mesh in one pass",
+                     [](AlgoOptions& run, const AlgoOptions& u) {
+                         run.parts = u.parts;
+                         run.partition = u.partition;
+                     }});
     f.push_back({"termination", "early termination: a pixel stops compositing once its opacity passes the threshold",
                  termination});
     return f;
@@ -192,6 +204,7 @@ AlgoOptions budget_baseline(const std::string& algo, const AlgoOptions& user)
     b.interpolation = "exact";
     b.coverage = "exact";
     b.threshold = 1.0;
+    b.parts = 1;           // the whole mesh in one pass
     if (algo == "havs") {  // the exact sort: every fragment held, at one distance the cell the ray leaves first
         b.k = gpu::kEveryFragment;
         b.ties = "facing";
@@ -314,7 +327,7 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
     check_algorithm_scene(s, algo);
     const AlgoOptions user = budget_user_options(s, algo, options);
     const AlgoOptions base = budget_baseline(algo, user);
-    const std::vector<BudgetFactor> factors = budget_factors(algo);
+    const std::vector<BudgetFactor> factors = budget_factors(algo, user);
     const std::vector<Run> runs = budget_runs(algo, user, base, factors);
     BudgetRunCache local;
     BudgetRunCache& rendered = cache ? *cache : local;

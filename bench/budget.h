@@ -29,7 +29,8 @@ struct BudgetFactor {
     std::string name, what;
     std::function<void(AlgoOptions& run, const AlgoOptions& user)> apply;
 };
-std::vector<BudgetFactor> budget_factors(const std::string& algo);
+// `algo`'s factors; `partition` only where the user asks for parts (--parts N > 1).
+std::vector<BudgetFactor> budget_factors(const std::string& algo, const AlgoOptions& user);
 
 // The user's options with every switch exact: the baseline.
 AlgoOptions budget_baseline(const std::string& algo, const AlgoOptions& user);

@@ -63,12 +63,15 @@ void register_render(CLI::App& app)
         if (ext != ".npy" && ext != ".exr" && ext != ".png")
             throw InputError(a->out, "unsupported image extension (use .npy, .exr or .png)");
         if (mpi::active()) {
-            if (a->algo != "reference")
-                throw mpi::RanksFailed("",
-                                       "under mpirun, uvr render runs --algo reference (the data-parallel "
-                                       "reference); --algo " +
-                                           a->algo + " runs in one process");
-            render_reference_parallel(a->scene, a->out, a->json);
+            if (a->algo != "reference" && a->algo != "havs" && a->algo != "vicp")
+                throw mpi::RanksFailed("", "under mpirun, uvr render runs --algo reference, havs or vicp; --algo " +
+                                               a->algo + " runs in one process");
+            if (a->algo_options.parts > 1)
+                throw mpi::RanksFailed("", "under mpirun the .pvtu's pieces are the parts: --parts is for one process");
+            if (a->algo == "reference")
+                render_reference_parallel(a->scene, a->out, a->json);
+            else
+                render_sort_last_parallel(a->scene, a->algo, a->algo_options, a->out, a->json);
             return;
         }
         a->algo_options.require_diagnostics = !a->diagnostics.empty();

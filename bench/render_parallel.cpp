@@ -1,10 +1,13 @@
 #include "bench/render_parallel.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <optional>
 
 #include <nlohmann/json.hpp>
 
+#include "bench/sort_last.h"
 #include "distributed/exchange.h"
 #include "distributed/mpi_session.h"
 #include "reference/error.h"
@@ -54,12 +57,10 @@ nlohmann::json rank_json(const mpi::RankStats& r)
               {"composite", x.composite_seconds}}}};
 }
 
-}  // namespace
-
-void render_reference_parallel(const SceneOptions& o, const std::string& out, bool json)
+// This rank's part of the scene: its pieces read, the whole mesh's extent agreed, the scene set up on it.
+Scene rank_scene(const SceneOptions& o, mpi::RankStats& st)
 {
     const auto start = Clock::now();
-    mpi::RankStats st;
     std::optional<Dataset> data;
     on_every_rank([&] {
         if (file_extension(o.input.path) != ".pvtu")
@@ -68,8 +69,6 @@ void render_reference_parallel(const SceneOptions& o, const std::string& out, bo
         data = read_pvtu(o.input.path, std::size_t(mpi::rank()), std::size_t(mpi::ranks()));
     });
     st.read_seconds = ms_since(start) / 1000.0;
-
-    const auto t_build = Clock::now();
     SceneExtent whole;
     on_every_rank([&] {
         const TetMesh& mesh = *data->mesh;
@@ -79,9 +78,19 @@ void render_reference_parallel(const SceneOptions& o, const std::string& out, bo
     mpi::reduce_extent(whole.bounds, whole.range);
     std::optional<Scene> scene;
     on_every_rank([&] { scene.emplace(setup_scene(std::move(*data), o, whole)); });
-    const Scene& s = *scene;
+    st.cells = scene->mesh().tets.size();
+    return std::move(*scene);
+}
+
+}  // namespace
+
+void render_reference_parallel(const SceneOptions& o, const std::string& out, bool json)
+{
+    const auto start = Clock::now();
+    mpi::RankStats st;
+    const Scene s = rank_scene(o, st);
+    const auto t_build = Clock::now();
     const RayIntegrator integrator(s.mesh(), *s.topology, s.field, s.tf);
-    st.cells = s.mesh().tets.size();
     st.build_seconds = ms_since(t_build) / 1000.0;
 
     std::vector<Fragment> fragments = trace_fragments(integrator, s.camera, s.width, s.height, st.trace);
@@ -113,6 +122,77 @@ void render_reference_parallel(const SceneOptions& o, const std::string& out, bo
     j["failures"] = failures;
     j["fragments"] = fragments_total;
     j["seconds"] = ms_since(start) / 1000.0;
+    std::printf("%s\n", j.dump(1).c_str());
+}
+
+void render_sort_last_parallel(const SceneOptions& o, const std::string& algo, const AlgoOptions& ao,
+                               const std::string& out, bool json)
+{
+    const auto start = Clock::now();
+    mpi::RankStats st;
+    const Scene s = rank_scene(o, st);
+    // Each piece this rank holds is a part: rendered on its own, sent to rank 0 with its box as
+    // [piece (uint32), box (6 doubles), image (width x height x 4 floats)].
+    const auto t_render = Clock::now();
+    std::vector<char> mine;
+    on_every_rank([&] {
+        std::vector<uint32_t> pieces = s.data.piece_of_cell;
+        std::sort(pieces.begin(), pieces.end());
+        pieces.erase(std::unique(pieces.begin(), pieces.end()), pieces.end());
+        for (uint32_t piece : pieces) {
+            const Scene ps = part_scene(s, extract_part(s.mesh(), s.data.piece_of_cell, piece));
+            const Bounds box = centroid_box(ps.mesh());
+            const AlgoResult r = run_algorithm(ps, algo, ao);
+            const auto put = [&](const void* p, std::size_t n) {
+                mine.insert(mine.end(), static_cast<const char*>(p), static_cast<const char*>(p) + n);
+            };
+            put(&piece, sizeof piece);
+            put(&box, sizeof box);
+            put(r.image.rgba.data(), r.image.rgba.size() * sizeof(float));
+        }
+    });
+    st.trace.seconds = ms_since(t_render) / 1000.0;
+    const auto t_gather = Clock::now();
+    const std::vector<std::vector<char>> all = mpi::gather_bytes(mine);
+    st.exchange.exchange_seconds = ms_since(t_gather) / 1000.0;
+    st.exchange.bytes_sent = mpi::rank() == 0 ? 0 : mine.size();
+    st.peak_memory_bytes = peak_memory_bytes();
+    const std::vector<mpi::RankStats> ranks = mpi::gather_stats(st);
+    if (mpi::rank() != 0) return;
+
+    std::vector<uint32_t> piece_ids;
+    std::vector<Bounds> boxes;
+    std::vector<Image> images;
+    const std::size_t image_bytes = std::size_t(s.width) * std::size_t(s.height) * 4 * sizeof(float);
+    for (const std::vector<char>& bytes : all)
+        for (std::size_t at = 0; at < bytes.size(); at += sizeof(uint32_t) + sizeof(Bounds) + image_bytes) {
+            uint32_t piece = 0;
+            Bounds box;
+            Image image(s.width, s.height);
+            std::memcpy(&piece, bytes.data() + at, sizeof piece);
+            std::memcpy(&box, bytes.data() + at + sizeof piece, sizeof box);
+            std::memcpy(image.rgba.data(), bytes.data() + at + sizeof piece + sizeof box, image_bytes);
+            piece_ids.push_back(piece);
+            boxes.push_back(box);
+            images.push_back(std::move(image));
+        }
+    bool separated = true;
+    const std::vector<uint32_t> order = back_to_front(boxes, s.camera, separated);
+    write_image(out, blend_back_to_front(images, order));
+    if (!json) return;
+    nlohmann::json pieces_back_to_front = nlohmann::json::array();
+    for (uint32_t i : order) pieces_back_to_front.push_back(piece_ids[i]);
+    nlohmann::json j = {{"algo", algo},     {"backend", ao.backend}, {"out", out},
+                        {"width", s.width}, {"height", s.height},    {"seconds", ms_since(start) / 1000.0}};
+    j["sort_last"] = {{"parts", piece_ids.size()}, {"order", pieces_back_to_front}, {"separated", separated}};
+    j["ranks"] = nlohmann::json::array();
+    for (const mpi::RankStats& r : ranks)
+        j["ranks"].push_back(
+            {{"cells", r.cells},
+             {"peak_memory_bytes", r.peak_memory_bytes},
+             {"bytes_sent", r.exchange.bytes_sent},
+             {"seconds",
+              {{"read", r.read_seconds}, {"render", r.trace.seconds}, {"gather", r.exchange.exchange_seconds}}}});
     std::printf("%s\n", j.dump(1).c_str());
 }
 

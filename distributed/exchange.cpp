@@ -61,6 +61,28 @@ std::vector<RankStats> gather_stats(const RankStats& mine)
     return all;
 }
 
+std::vector<std::vector<char>> gather_bytes(const std::vector<char>& mine)
+{
+    int rank = 0, ranks = 1;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    const int count = mpi_count(mine.size(), "bytes");
+    std::vector<int> counts(static_cast<std::size_t>(ranks), 0), at(static_cast<std::size_t>(ranks), 0);
+    MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+    uint64_t total = 0;
+    for (int r = 0; r < ranks; ++r) {
+        at[std::size_t(r)] = mpi_count(total, "bytes");
+        total += uint64_t(counts[std::size_t(r)]);
+    }
+    std::vector<char> all(rank == 0 ? total : 0);
+    MPI_Gatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), at.data(), MPI_BYTE, 0, MPI_COMM_WORLD);
+    std::vector<std::vector<char>> out;
+    if (rank != 0) return out;
+    for (int r = 0; r < ranks; ++r)
+        out.emplace_back(all.begin() + at[std::size_t(r)], all.begin() + at[std::size_t(r)] + counts[std::size_t(r)]);
+    return out;
+}
+
 Image composite_across_ranks(std::vector<Fragment>& fragments, int width, int height, ExchangeStats& stats)
 {
     int rank = 0, ranks = 1;

@@ -35,6 +35,9 @@ struct RankStats {
 // Every rank's stats, in rank order, on rank 0 (the others get an empty list). Collective.
 std::vector<RankStats> gather_stats(const RankStats& mine);
 
+// Every rank's bytes, in rank order, on rank 0 (the others get an empty list): sort-last's part images. Collective.
+std::vector<std::vector<char>> gather_bytes(const std::vector<char>& mine);
+
 // Collective. `fragments` (this rank's, any order) are consumed. Rank 0 returns the width x height image; the other
 // ranks an empty one.
 Image composite_across_ranks(std::vector<Fragment>& fragments, int width, int height, ExchangeStats& stats);

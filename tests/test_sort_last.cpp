@@ -1,0 +1,164 @@
+// Sort-last HAVS and VICP in one process (docs/distributed.md, "Sort-last HAVS and VICP"): the order of the parts'
+// boxes, the blended image exact where the parts are convex and visibility-ordered, and the error compositing adds
+// where they are not (uvr render --parts, uvr budget's partition factor).
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/sort_last.h"
+#include "box_mesh.h"
+#include "reference/write_vtk_xml.h"
+#include "test_support.h"
+
+using namespace uvr;
+using test::CommandResult;
+using test::TempDir;
+
+namespace {
+
+// The bar of docs/budget.md's baseline (kBudgetBaselineMax in bench/budget.h): HAVS and VICP with every switch exact
+// leave at most 9e-7 against the reference on the hardest views measured; sort-last on convex, visibility-ordered
+// parts must stay within the same bar.
+constexpr double kExactBar = 2e-6;
+
+// What sort-last must add at least on parts that are not convex, for the test to tell it from the exact bar: 4 rcb parts
+// of Blunt Fin from (-40, 70) at 96 x 72 leave 1.3e-5 (the smallest error measured there: 5.2e-6 with 2 parts, 2.9e-5
+// with 8), METIS's 4 parts 5.3e-3 (docs/distributed.md).
+constexpr double kPartitionErrorFloor = 4.0 * kExactBar;
+
+Bounds box(double x0, double y0, double z0, double x1, double y1, double z1)
+{
+    return Bounds{glm::dvec3(x0, y0, z0), glm::dvec3(x1, y1, z1)};
+}
+
+Camera looking_from(const glm::dvec3& eye, bool orthographic = false)
+{
+    Camera c;
+    c.eye = eye;
+    c.target = glm::dvec3(1.0, 1.0, 0.5);
+    c.up = glm::dvec3(0.0, 0.0, 1.0);
+    c.orthographic = orthographic;
+    return c;
+}
+
+double max_difference(const Image& a, const Image& b)
+{
+    double m = 0.0;
+    for (std::size_t i = 0; i < a.rgba.size(); ++i) m = std::max(m, std::fabs(double(a.rgba[i]) - double(b.rgba[i])));
+    return m;
+}
+
+std::string quoted(const std::string& s)
+{
+    return "'" + s + "'";
+}
+
+// Every switch exact (docs/budget.md's baseline): HAVS equals the reference to float32 precision.
+const std::string kExact = " --segment exact --interpolation exact --coverage exact --threshold 1";
+
+}  // namespace
+
+TEST_CASE("sort-last orders boxes split by planes far side first, and says when no plane separates them")
+{
+    // Four boxes in a 2 x 2 grid (x, y), seen from low x and low y: the high-x side first, and in each side the high-y
+    // box first.
+    const std::vector<Bounds> grid = {box(0, 0, 0, 1, 1, 1), box(1, 0, 0, 2, 1, 1), box(0, 1, 0, 1, 2, 1),
+                                      box(1, 1, 0, 2, 2, 1)};
+    bool separated = false;
+    CHECK(cli::back_to_front(grid, looking_from({-5.0, -4.0, 0.5}), separated) == std::vector<uint32_t>{3, 1, 2, 0});
+    CHECK(separated);
+    CHECK(cli::back_to_front(grid, looking_from({6.0, 7.0, 0.5}), separated) == std::vector<uint32_t>{0, 2, 1, 3});
+    // Orthographic: the side the view direction points to is the far one, wherever the eye is.
+    CHECK(cli::back_to_front(grid, looking_from({-5.0, -4.0, 0.5}, true), separated) ==
+          std::vector<uint32_t>{3, 1, 2, 0});
+    // Boxes that overlap: no plane separates them; farthest centre first.
+    const std::vector<Bounds> tangled = {box(0, 0, 0, 2, 1, 1), box(1, 0, 0, 3, 1, 1)};
+    CHECK(cli::back_to_front(tangled, looking_from({-5.0, 0.5, 0.5}), separated) == std::vector<uint32_t>{1, 0});
+    CHECK_FALSE(separated);
+}
+
+TEST_CASE("sort-last HAVS and VICP on a box split into boxes equal the reference, as the whole mesh does")
+{
+    TempDir dir("sort-last");
+    // A 4 x 4 x 4 box of cubes: recursive bisection into 2 and 4 parts cuts between layers of cubes (half the cells lie
+    // on either side of the middle), so every part is a convex box and the order of the boxes is a visibility order.
+    const TetMesh mesh = test::box_mesh(4, [](const glm::dvec3& p) { return 0.1 + 0.2 * p.x + 0.05 * p.y * p.z; });
+    const std::string file = dir.file("box.vtu");
+    write_vtu(file, mesh);
+    for (const std::string algo : {"havs --k all --ties facing", "vicp"})
+        for (const std::string view : {"--view 30,20", "--view -120,-35"}) {
+            const std::string scene = quoted(file) + " --size 64x64 " + view + " --no-cache";
+            const std::string ref = dir.file("ref.npy"), whole = dir.file("whole.npy");
+            REQUIRE(test::run_uvr("render " + scene + " --algo reference --out " + quoted(ref)).exit_code == 0);
+            REQUIRE(
+                test::run_uvr("render " + scene + " --algo " + algo + kExact + " --out " + quoted(whole)).exit_code ==
+                0);
+            for (int parts : {2, 4}) {
+                const std::string out = dir.file("parts.npy");
+                const CommandResult r = test::run_uvr("render " + scene + " --algo " + algo + kExact + " --parts " +
+                                                      std::to_string(parts) + " --out " + quoted(out) + " --json");
+                INFO(algo << ", " << view << ", " << parts << " parts\n" << r.err);
+                REQUIRE(r.exit_code == 0);
+                const nlohmann::json j = nlohmann::json::parse(r.out);
+                CHECK(j["sort_last"]["separated"] == true);
+                CHECK(j["sort_last"]["order"].size() == std::size_t(parts));
+                const double against_ref = max_difference(read_npy(out), read_npy(ref));
+                INFO("sort-last against the reference " << against_ref << ", the whole mesh against it "
+                                                        << max_difference(read_npy(whole), read_npy(ref)));
+                CHECK(against_ref <= kExactBar);
+            }
+        }
+}
+
+TEST_CASE("sort-last on parts that are not convex adds an error, and uvr budget measures it as the partition factor")
+{
+    TempDir dir("sort-last-budget");
+    // Blunt Fin's rcb parts: cells stick out of their boxes across the cut planes, so some rays leave a part, cross
+    // another and come back; METIS's parts are not boxes at all.
+    const std::string fin = quoted(test::data_path("vtk-data/bluntfinxyz.bin")) + " --q " +
+                            quoted(test::data_path("vtk-data/bluntfinq.bin")) + " --size 96x72 --view -40,70";
+    const std::string ref = dir.file("ref.npy");
+    REQUIRE(test::run_uvr("render " + fin + " --algo reference --out " + quoted(ref)).exit_code == 0);
+    for (const std::string method : {"rcb", "metis"}) {
+        const std::string out = dir.file(method + ".npy");
+        const CommandResult r = test::run_uvr("render " + fin + " --algo havs --k all --ties facing" + kExact +
+                                              " --parts 4 --partition " + method + " --out " + quoted(out) + " --json");
+        INFO(method << "\n" << r.err);
+        REQUIRE(r.exit_code == 0);
+        const double error = max_difference(read_npy(out), read_npy(ref));
+        INFO("sort-last exact HAVS against the reference: " << error);
+        CHECK(error > kPartitionErrorFloor);
+        CHECK(nlohmann::json::parse(r.out)["sort_last"]["separated"] == (method == std::string("rcb")));
+    }
+    const CommandResult b = test::run_uvr("budget " + fin + " --algo vicp --parts 4 --partition metis --report " +
+                                          quoted(dir.file("budget")) + " --json");
+    INFO(b.err);
+    REQUIRE(b.exit_code == 0);
+    const nlohmann::json j = nlohmann::json::parse(b.out);
+    REQUIRE(j["factors"].contains("partition"));
+    CHECK(j["factors"]["partition"]["rmse"].get<double>() > 1e-5);
+    // Without --parts there is no partition factor.
+    const CommandResult plain =
+        test::run_uvr("budget " + fin + " --algo vicp --report " + quoted(dir.file("plain")) + " --json");
+    REQUIRE(plain.exit_code == 0);
+    CHECK_FALSE(nlohmann::json::parse(plain.out)["factors"].contains("partition"));
+}
+
+TEST_CASE("sort-last's --parts is refused where it means nothing")
+{
+    TempDir dir("sort-last-refuse");
+    const std::string out = " --size 16x16 --out " + quoted(dir.file("never.npy"));
+    const std::string volume = quoted(test::data_path("vtk-data/hydrogen.vti"));
+    const struct {
+        std::string args, message;
+    } cases[] = {{"render " + volume + " --algo raycast --parts 2" + out, "--parts is for HAVS and VICP"},
+                 {"render builtin:torus-small --algo havs --parts 0" + out, "--parts must be a whole number"},
+                 {"render builtin:torus-small --algo havs --parts 2 --partition kd" + out, "--partition"}};
+    for (const auto& c : cases) {
+        const CommandResult r = test::run_uvr(c.args);
+        INFO(c.args << "\n" << r.err);
+        CHECK(r.exit_code != 0);
+        CHECK_THAT(r.err, Catch::Contains(c.message));
+        CHECK_FALSE(std::filesystem::exists(dir.file("never.npy")));
+    }
+}
