@@ -26,6 +26,10 @@ constexpr double kExactBar = 2e-6;
 // with 8), METIS's 4 parts 5.3e-3 (docs/distributed.md).
 constexpr double kPartitionErrorFloor = 4.0 * kExactBar;
 
+// The partition factor of 4 METIS parts of builtin:torus-small at 48 x 48, view (30, 20), measured 7.0e-5 RMSE: the
+// test asks for a tenth of it, far above the exact baseline's 1e-8.
+constexpr double kTorusPartitionFloor = 7e-6;
+
 Bounds box(double x0, double y0, double z0, double x1, double y1, double z1)
 {
     return Bounds{glm::dvec3(x0, y0, z0), glm::dvec3(x1, y1, z1)};
@@ -130,16 +134,18 @@ TEST_CASE("sort-last on parts that are not convex adds an error, and uvr budget 
         CHECK(error > kPartitionErrorFloor);
         CHECK(nlohmann::json::parse(r.out)["sort_last"]["separated"] == (method == std::string("rcb")));
     }
-    const CommandResult b = test::run_uvr("budget " + fin + " --algo vicp --parts 4 --partition metis --report " +
+    // The budget on the small torus, whose 4 METIS parts leave a partition factor of 7.0e-5 RMSE at 48 x 48.
+    const std::string torus = "builtin:torus-small --size 48x48 --view 30,20 --algo vicp";
+    const CommandResult b = test::run_uvr("budget " + torus + " --parts 4 --partition metis --report " +
                                           quoted(dir.file("budget")) + " --json");
     INFO(b.err);
     REQUIRE(b.exit_code == 0);
     const nlohmann::json j = nlohmann::json::parse(b.out);
     REQUIRE(j["factors"].contains("partition"));
-    CHECK(j["factors"]["partition"]["rmse"].get<double>() > 1e-5);
+    CHECK(j["factors"]["partition"]["rmse"].get<double>() > kTorusPartitionFloor);
     // Without --parts there is no partition factor.
-    const CommandResult plain =
-        test::run_uvr("budget " + fin + " --algo vicp --report " + quoted(dir.file("plain")) + " --json");
+    const CommandResult plain = test::run_uvr("budget builtin:torus-small --size 16x16 --algo vicp --report " +
+                                              quoted(dir.file("plain")) + " --json");
     REQUIRE(plain.exit_code == 0);
     CHECK_FALSE(nlohmann::json::parse(plain.out)["factors"].contains("partition"));
 }
