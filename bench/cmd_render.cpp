@@ -9,7 +9,7 @@
 #include "bench/algorithms.h"
 #include "bench/commands.h"
 #include "bench/render_parallel.h"
-#include "distributed/mpi_session.h"
+#include "distributed/mpi_runtime.h"
 #include "reference/error.h"
 #include "reference/io_util.h"
 

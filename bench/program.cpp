@@ -9,7 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bench/commands.h"
-#include "distributed/mpi_session.h"
+#include "distributed/mpi_runtime.h"
 #include "reference/error.h"
 
 namespace uvr::cli {
@@ -41,7 +41,7 @@ int run_program(int argc, char** argv)
     register_partition(app);
     register_demo(app);
     // Under mpirun every rank runs the program; a failure that not every rank knows of ends them all (failed()).
-    const mpi::Session session(argc, argv);
+    const mpi::Runtime runtime(argc, argv);
     try {
         if (mpi::active() && (argc < 2 || std::string(argv[1]) != "render"))
             throw mpi::RanksFailed("", "under mpirun, uvr runs render only (the data-parallel reference)");

@@ -9,7 +9,7 @@
 
 #include "bench/sort_last.h"
 #include "distributed/exchange.h"
-#include "distributed/mpi_session.h"
+#include "distributed/mpi_runtime.h"
 #include "reference/error.h"
 #include "reference/fragments.h"
 #include "reference/io_util.h"

@@ -138,10 +138,10 @@ TEST_CASE("compositing fragments does not depend on the order they arrive in")
     const test::Scene torus = test::make_scene(load_builtin("builtin:torus-small"), 0);
     const Camera cam = default_camera(mesh_bounds(torus.mesh), 1.0, 30.0, 20.0);
     std::size_t fragments = 0;
-    const Image sorted = composite_of_parts(torus, partition_rcb(torus.mesh, 4), 4, cam, 64, 64, fragments);
+    const std::vector<uint32_t> part_of = partition_rcb(torus.mesh, 4);
+    const Image sorted = composite_of_parts(torus, part_of, 4, cam, 64, 64, fragments);
     std::vector<Fragment> all;
     for (uint32_t p = 0; p < 4; ++p) {
-        const std::vector<uint32_t> part_of = partition_rcb(torus.mesh, 4);
         const TetMesh part = extract_part(torus.mesh, part_of, p);
         const MeshTopology topo = build_topology(part);
         ReferenceStats st;

@@ -1,4 +1,4 @@
-#include "distributed/mpi_session.h"
+#include "distributed/mpi_runtime.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -19,7 +19,7 @@ bool launched()
     return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMIX_RANK") || std::getenv("PMI_RANK");
 }
 
-Session::Session(int& argc, char**& argv)
+Runtime::Runtime(int& argc, char**& argv)
 {
     if (!launched()) return;
     MPI_Init(&argc, &argv);
@@ -28,7 +28,7 @@ Session::Session(int& argc, char**& argv)
     g_active = true;
 }
 
-Session::~Session()
+Runtime::~Runtime()
 {
     if (g_active) MPI_Finalize();
     g_active = false;

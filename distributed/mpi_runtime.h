@@ -14,15 +14,15 @@ namespace uvr::mpi {
 bool launched();
 
 // MPI for the lifetime of the program: initialized by the constructor when launched(), finalized by the destructor.
-class Session {
+class Runtime {
 public:
-    Session(int& argc, char**& argv);
-    ~Session();
-    Session(const Session&) = delete;
-    Session& operator=(const Session&) = delete;
+    Runtime(int& argc, char**& argv);
+    ~Runtime();
+    Runtime(const Runtime&) = delete;
+    Runtime& operator=(const Runtime&) = delete;
 };
 
-bool active();  // a Session initialized MPI
+bool active();  // a Runtime initialized MPI
 int rank();     // 0 without MPI
 int ranks();    // 1 without MPI
 
