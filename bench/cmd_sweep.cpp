@@ -11,6 +11,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
+#include <map>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -20,7 +22,9 @@
 #include "bench/commands.h"
 #include "bench/progress.h"
 #include "bench/report.h"
+#include "bench/runs_parallel.h"
 #include "bench/sweep_step.h"
+#include "distributed/mpi_runtime.h"
 #include "gpu/havs/gl_havs.h"
 #include "reference/error.h"
 #include "reference/error_measures.h"
@@ -84,6 +88,69 @@ bool load_json(const std::string& path, nlohmann::json& j)
     }
 }
 
+// A run finished by an earlier sweep: both of its files under DIR/runs/ (`base` is their path without extension).
+bool stored_run(const std::string& base, nlohmann::json& row)
+{
+    std::error_code ec;
+    return load_json(base + ".json", row) && std::filesystem::exists(base + ".npy", ec);
+}
+
+Camera view_camera(const Scene& s, const Camera& scene_camera, const View& v)
+{
+    return v.index == 0 ? scene_camera
+                        : default_camera(mesh_bounds(s.mesh()), double(s.width) / s.height, v.azimuth, v.elevation);
+}
+
+// The runs of a view, named as their files under DIR/runs/: the reference, HAVS at k with exact segments ("exact",
+// the emulation's alone) or the table ("table", --backend), and the table of size n at the largest k.
+std::string reference_tag(const View& v)
+{
+    return "v" + std::to_string(v.index) + "-reference";
+}
+std::string k_tag(const View& v, int k, const std::string& mode)
+{
+    return "v" + std::to_string(v.index) + "-k" + std::to_string(k) + "-" + mode;
+}
+std::string table_tag(const View& v, int kmax, int n)
+{
+    return "v" + std::to_string(v.index) + "-k" + std::to_string(kmax) + "-table" + std::to_string(n);
+}
+AlgoOptions k_options(const SweepArgs& a, int k, const std::string& mode)
+{
+    AlgoOptions o = a.algo_options;
+    o.k = k;
+    o.segment = mode;
+    if (mode == "exact") o.backend = "emu";
+    return o;
+}
+AlgoOptions table_options(const SweepArgs& a, int kmax, int n)
+{
+    AlgoOptions o = a.algo_options;
+    o.k = kmax;
+    o.table_size = n;
+    return o;
+}
+
+// What a mesh sweep runs over: the k list and the table sizes.
+struct SweepLists {
+    std::vector<int> ks, table_sizes;
+};
+
+// Every run of a mesh sweep, in the order one process renders them.
+std::vector<PlannedRun> planned_runs(const SweepArgs& a, const Scene& s, const SweepLists& l)
+{
+    std::vector<PlannedRun> runs;
+    for (const View& v : sweep_views(a.views)) {
+        const Camera cam = view_camera(s, s.camera, v);
+        runs.push_back({reference_tag(v), "reference", cam, a.algo_options});
+        for (const std::string mode : {"exact", "table"})
+            for (int k : l.ks) runs.push_back({k_tag(v, k, mode), "havs", cam, k_options(a, k, mode)});
+        for (int n : l.table_sizes)
+            runs.push_back({table_tag(v, l.ks.back(), n), "havs", cam, table_options(a, l.ks.back(), n)});
+    }
+    return runs;
+}
+
 // A regular grid sweeps the ray caster's step (bench/sweep_step.cpp); prints its rows unless --json.
 void sweep_volume(const SweepArgs& a, Scene& s, const std::vector<double>& steps, bool k_given)
 {
@@ -126,12 +193,14 @@ std::vector<int> checked_k_list(const SweepArgs& a)
 // the JSON `out`.
 class KSweep {
 public:
-    KSweep(const SweepArgs& a, Scene& s, std::vector<int> ks, std::vector<int> table_sizes)
+    // `rendered`: runs already rendered (by the ranks under mpirun), by tag; the others are rendered here.
+    KSweep(const SweepArgs& a, Scene& s, const SweepLists& l, std::map<std::string, AlgoResult> rendered = {})
         : a_(a),
           s_(s),
-          ks_(std::move(ks)),
-          table_sizes_(std::move(table_sizes)),
+          ks_(l.ks),
+          table_sizes_(l.table_sizes),
           runs_(a.report + "/runs"),
+          rendered_(std::move(rendered)),
           bar_("sweep")
     {
     }
@@ -154,9 +223,7 @@ public:
         const Camera scene_camera = s_.camera;
         double floor_sum = 0.0;
         for (const View& v : views) {
-            s_.camera = v.index == 0 ? scene_camera
-                                     : default_camera(mesh_bounds(s_.mesh()), double(s_.width) / s_.height, v.azimuth,
-                                                      v.elevation);
+            s_.camera = view_camera(s_, scene_camera, v);
             floor_sum += sweep_view(v);
         }
         bar_.finish();
@@ -170,23 +237,32 @@ private:
     Scene& s_;
     const std::vector<int> ks_, table_sizes_;
     const std::string runs_;
+    std::map<std::string, AlgoResult> rendered_;
     ProgressBar bar_;
     nlohmann::json out_;
     std::size_t total_ = 0, done_ = 0, resumed_ = 0;
 
     void step() { bar_.update(double(++done_) / double(total_)); }
 
+    AlgoResult render(const std::string& tag, const std::string& algo, const AlgoOptions& o)
+    {
+        const auto it = rendered_.find(tag);
+        if (it == rendered_.end()) return run_algorithm(s_, algo, o);
+        AlgoResult r = std::move(it->second);
+        rendered_.erase(it);
+        return r;
+    }
+
     // One HAVS run: its row from disk when both files are there, else rendered, measured and stored.
     nlohmann::json havs_run(const std::string& tag, const AlgoOptions& o, const Image& against, nlohmann::json row)
     {
         nlohmann::json stored;
         const std::string base = runs_ + "/" + tag;
-        std::error_code ec;
-        if (load_json(base + ".json", stored) && std::filesystem::exists(base + ".npy", ec)) {
+        if (stored_run(base, stored)) {
             ++resumed_;
             return stored;
         }
-        const AlgoResult r = run_algorithm(s_, "havs", o);
+        const AlgoResult r = render(tag, "havs", o);
         const ErrorMeasures e = measure_errors(r.image, against);
         row["backend"] = o.backend;
         row["rmse"] = e.rmse;
@@ -211,15 +287,10 @@ private:
     nlohmann::json k_runs(const View& v, const Image& ref)
     {
         nlohmann::json vj = {{"view", v.index}, {"azimuth", v.azimuth}, {"elevation", v.elevation}};
-        const std::string vtag = "v" + std::to_string(v.index);
         for (const std::string mode : {"exact", "table"}) {
             int smallest = -1;
             for (int k : ks_) {
-                AlgoOptions o = a_.algo_options;
-                o.k = k;
-                o.segment = mode;
-                if (mode == "exact") o.backend = "emu";
-                const nlohmann::json row = havs_run(vtag + "-k" + std::to_string(k) + "-" + mode, o, ref,
+                const nlohmann::json row = havs_run(k_tag(v, k, mode), k_options(a_, k, mode), ref,
                                                     {{"view", v.index}, {"k", k}, {"mode", mode}});
                 if (smallest < 0 && row["visible_fraction"].get<double>() == 0.0) smallest = k;
                 out_["rows"].push_back(row);
@@ -235,17 +306,15 @@ private:
     // the table's error floor (table against exact at the largest k).
     double sweep_view(const View& v)
     {
-        const Image ref = run_algorithm(s_, "reference", a_.algo_options).image;
-        write_npy(runs_ + "/v" + std::to_string(v.index) + "-reference.npy", ref);
+        const Image ref = render(reference_tag(v), "reference", a_.algo_options).image;
+        write_npy(runs_ + "/" + reference_tag(v) + ".npy", ref);
         nlohmann::json vj = k_runs(v, ref);
-        const std::string last = "v" + std::to_string(v.index) + "-k" + std::to_string(ks_.back());
-        const Image top[2] = {read_npy(runs_ + "/" + last + "-exact.npy"), read_npy(runs_ + "/" + last + "-table.npy")};
+        const int kmax = ks_.back();
+        const Image top[2] = {read_npy(runs_ + "/" + k_tag(v, kmax, "exact") + ".npy"),
+                              read_npy(runs_ + "/" + k_tag(v, kmax, "table") + ".npy")};
         for (int n : table_sizes_) {
-            AlgoOptions o = a_.algo_options;
-            o.k = ks_.back();
-            o.table_size = n;
-            out_["table_rows"].push_back(havs_run(last + "-table" + std::to_string(n), o, top[0],
-                                                  {{"view", v.index}, {"k", ks_.back()}, {"table_size", n}}));
+            out_["table_rows"].push_back(havs_run(table_tag(v, kmax, n), table_options(a_, kmax, n), top[0],
+                                                  {{"view", v.index}, {"k", kmax}, {"table_size", n}}));
             step();
         }
         const ErrorMeasures floor = measure_errors(top[1], top[0]);
@@ -328,6 +397,41 @@ void finish_sweep(const SweepArgs& a, const nlohmann::json& out)
                 out["resumed_runs"].get<std::size_t>());
 }
 
+// A mesh sweep's lists, checked with every other option before any work.
+SweepLists checked_lists(const SweepArgs& a)
+{
+    if (!a.steps.empty())
+        throw InputError(a.scene.input.path,
+                         "is a tetrahedral mesh: --step sweeps the ray caster, which renders "
+                         "regular grids (use --k for HAVS)");
+    return {checked_k_list(a), parse_int_list("--table-sizes", a.table_sizes, 2, 1024)};
+}
+
+// Under mpirun: every rank reads the mesh, the runs rank 0 finds missing under DIR/runs/ are dealt to the ranks, and
+// rank 0 writes the report from their results, as one process writes it (the budget, with --budget, on rank 0).
+void sweep_across_ranks(const SweepArgs& a)
+{
+    std::optional<Scene> s;
+    SweepLists lists;
+    mpi::on_every_rank([&] {
+        s.emplace(setup_scene(a.scene));
+        if (s->is_volume())
+            throw InputError(a.scene.input.path,
+                             "is a regular grid: under mpirun, uvr sweep spreads HAVS's runs "
+                             "over the ranks (the ray caster's --step sweep runs in one process)");
+        lists = checked_lists(a);
+    });
+    const std::vector<PlannedRun> runs = planned_runs(a, *s, lists);
+    std::vector<char> wanted;
+    nlohmann::json row;
+    if (mpi::rank() == 0)
+        for (const PlannedRun& r : runs) wanted.push_back(!stored_run(a.report + "/runs/" + r.tag, row));
+    std::map<std::string, AlgoResult> rendered = render_across_ranks(*s, runs, wanted);
+    mpi::on_every_rank([&] {
+        if (mpi::rank() == 0) finish_sweep(a, KSweep(a, *s, lists, std::move(rendered)).run());
+    });
+}
+
 }  // namespace
 
 void register_sweep(CLI::App& app)
@@ -350,16 +454,11 @@ void register_sweep(CLI::App& app)
                   "cause dominates as k grows or the step shrinks");
     cmd->add_flag("--json", a->json, "Print sweep.json's object on stdout");
     cmd->callback([a, k_option] {
+        if (mpi::active()) return sweep_across_ranks(*a);
         const std::vector<double> steps = parse_step_list(a->steps);
         Scene s = setup_scene(a->scene);
         if (s.is_volume()) return sweep_volume(*a, s, steps, k_option->count() > 0);
-        if (!a->steps.empty())
-            throw InputError(a->scene.input.path,
-                             "is a tetrahedral mesh: --step sweeps the ray caster, which renders "
-                             "regular grids (use --k for HAVS)");
-        std::vector<int> ks = checked_k_list(*a);
-        std::vector<int> table_sizes = parse_int_list("--table-sizes", a->table_sizes, 2, 1024);
-        finish_sweep(*a, KSweep(*a, s, std::move(ks), std::move(table_sizes)).run());
+        finish_sweep(*a, KSweep(*a, s, checked_lists(*a)).run());
     });
 }
 

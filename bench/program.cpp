@@ -43,8 +43,9 @@ int run_program(int argc, char** argv)
     // Under mpirun every rank runs the program; a failure that not every rank knows of ends them all (failed()).
     const mpi::Runtime runtime(argc, argv);
     try {
-        if (mpi::active() && (argc < 2 || std::string(argv[1]) != "render"))
-            throw mpi::RanksFailed("", "under mpirun, uvr runs render only (the data-parallel reference)");
+        const std::string command = argc < 2 ? "" : argv[1];
+        if (mpi::active() && command != "render" && command != "sweep")
+            throw mpi::RanksFailed("", "under mpirun, uvr runs render and sweep only");
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         const int rc = app.exit(e);

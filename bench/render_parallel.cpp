@@ -20,21 +20,6 @@ namespace uvr::cli {
 
 namespace {
 
-// Runs `stage` on this rank and agrees on its failure with every other rank (mpi::agree).
-template <class Stage>
-void on_every_rank(Stage&& stage)
-{
-    std::string error;
-    try {
-        stage();
-    } catch (const InputError& e) {
-        error = e.what();
-    } catch (const std::bad_alloc&) {
-        error = "out of memory";
-    }
-    mpi::agree(error);
-}
-
 nlohmann::json rank_json(const mpi::RankStats& r)
 {
     const mpi::ExchangeStats& x = r.exchange;
@@ -62,7 +47,7 @@ Scene rank_scene(const SceneOptions& o, mpi::RankStats& st)
 {
     const auto start = Clock::now();
     std::optional<Dataset> data;
-    on_every_rank([&] {
+    mpi::on_every_rank([&] {
         if (file_extension(o.input.path) != ".pvtu")
             throw InputError(o.input.path,
                              "under mpirun, uvr render reads a .pvtu of pieces (uvr partition writes one)");
@@ -70,14 +55,14 @@ Scene rank_scene(const SceneOptions& o, mpi::RankStats& st)
     });
     st.read_seconds = ms_since(start) / 1000.0;
     SceneExtent whole;
-    on_every_rank([&] {
+    mpi::on_every_rank([&] {
         const TetMesh& mesh = *data->mesh;
         whole.bounds = mesh_bounds(mesh);
         whole.range = field_range(mesh.fields[find_field(mesh, o.input.field)]);
     });
     mpi::reduce_extent(whole.bounds, whole.range);
     std::optional<Scene> scene;
-    on_every_rank([&] { scene.emplace(setup_scene(std::move(*data), o, whole)); });
+    mpi::on_every_rank([&] { scene.emplace(setup_scene(std::move(*data), o, whole)); });
     st.cells = scene->mesh().tets.size();
     return std::move(*scene);
 }
@@ -135,7 +120,7 @@ void render_sort_last_parallel(const SceneOptions& o, const std::string& algo, c
     // [piece (uint32), box (6 doubles), image (width x height x 4 floats)].
     const auto t_render = Clock::now();
     std::vector<char> mine;
-    on_every_rank([&] {
+    mpi::on_every_rank([&] {
         std::vector<uint32_t> pieces = s.data.piece_of_cell;
         std::sort(pieces.begin(), pieces.end());
         pieces.erase(std::unique(pieces.begin(), pieces.end()), pieces.end());

@@ -83,6 +83,14 @@ std::vector<std::vector<char>> gather_bytes(const std::vector<char>& mine)
     return out;
 }
 
+void broadcast_bytes(std::vector<char>& bytes)
+{
+    int count = mpi_count(bytes.size(), "bytes");
+    MPI_Bcast(&count, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    bytes.resize(std::size_t(count));
+    MPI_Bcast(bytes.data(), count, MPI_BYTE, 0, MPI_COMM_WORLD);
+}
+
 Image composite_across_ranks(std::vector<Fragment>& fragments, int width, int height, ExchangeStats& stats)
 {
     int rank = 0, ranks = 1;

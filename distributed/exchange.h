@@ -35,8 +35,12 @@ struct RankStats {
 // Every rank's stats, in rank order, on rank 0 (the others get an empty list). Collective.
 std::vector<RankStats> gather_stats(const RankStats& mine);
 
-// Every rank's bytes, in rank order, on rank 0 (the others get an empty list): sort-last's part images. Collective.
+// Every rank's bytes, in rank order, on rank 0 (the others get an empty list): sort-last's part images, a
+// sweep's runs. Collective.
 std::vector<std::vector<char>> gather_bytes(const std::vector<char>& mine);
+
+// Rank 0's `bytes` on every rank (the others' `bytes` are replaced). Collective.
+void broadcast_bytes(std::vector<char>& bytes);
 
 // Collective. `fragments` (this rank's, any order) are consumed. Rank 0 returns the width x height image; the other
 // ranks an empty one.

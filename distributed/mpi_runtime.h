@@ -2,6 +2,7 @@
 // plain run never pays for MPI_Init; every rank ends on a failure of any rank, with the failing rank's message.
 #pragma once
 
+#include <new>
 #include <string>
 
 #include "reference/error.h"
@@ -36,6 +37,22 @@ public:
 // The end of a stage, on every rank: `error` is this rank's failure ("" for none). When any rank failed, every rank
 // throws RanksFailed with all the failed ranks' messages; otherwise every rank goes on. Collective.
 void agree(const std::string& error);
+
+// Runs `stage` on this rank and agrees on its failure (an InputError, or memory running out) with every other rank.
+// Collective.
+template <class Stage>
+void on_every_rank(Stage&& stage)
+{
+    std::string error;
+    try {
+        stage();
+    } catch (const InputError& e) {
+        error = e.what();
+    } catch (const std::bad_alloc&) {
+        error = "out of memory";
+    }
+    agree(error);
+}
 
 // The whole data's bounds and field range from each rank's part (componentwise min and max). Collective.
 void reduce_extent(Bounds& bounds, Range& range);

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <random>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -255,6 +256,61 @@ TEST_CASE("mpirun: sort-last HAVS and VICP over the pieces equal the one-process
     }
 }
 
+namespace {
+
+// sweep.csv without its last column, `ms`: the wall time of each run, which differs between any two sweeps (two in one
+// process too).
+std::string csv_without_times(const std::string& path)
+{
+    std::istringstream in(test::file_contents(path));
+    std::string line, out;
+    while (std::getline(in, line)) out += line.substr(0, line.rfind(',')) + "\n";
+    return out;
+}
+
+// sweep.json without the runs' times and the count of runs taken from disk.
+nlohmann::json sweep_without_times(const std::string& path)
+{
+    nlohmann::json j = nlohmann::json::parse(test::file_contents(path));
+    for (const char* rows : {"rows", "table_rows"})
+        for (auto& r : j[rows]) r.erase("ms");
+    j.erase("resumed_runs");
+    return j;
+}
+
+}  // namespace
+
+TEST_CASE("mpirun: a sweep spread over the ranks writes the one-process sweep's report, resumed runs included")
+{
+    TempDir dir("mpi-sweep");
+    const std::string args = "sweep builtin:torus-small --k 1,6 --views 2 --table-sizes 16 --size 64x48 --report ";
+    const std::string one = dir.file("one"), ranks = dir.file("ranks");
+    REQUIRE(test::run_uvr(args + quoted(one)).exit_code == 0);
+    for (const int n : {3, 2}) {
+        // The second time, two runs are missing and the others are taken from disk.
+        if (n == 2)
+            for (const char* tag : {"v0-k6-exact", "v1-k1-table"})
+                std::filesystem::remove(ranks + "/runs/" + tag + ".npy");
+        const CommandResult r = run_ranks(n, args + quoted(ranks) + " --json");
+        INFO(n << " ranks\n" << r.err);
+        REQUIRE(r.exit_code == 0);
+        CHECK(nlohmann::json::parse(r.out)["resumed_runs"] == (n == 2 ? 8 : 0));
+        const std::string csv = csv_without_times(one + "/sweep.csv");
+        CHECK(std::count(csv.begin(), csv.end(), '\n') == 11);  // the header, 2 views x (2 k x 2 modes + 1 table size)
+        CHECK(csv_without_times(ranks + "/sweep.csv") == csv);
+        CHECK(sweep_without_times(ranks + "/sweep.json") == sweep_without_times(one + "/sweep.json"));
+        std::size_t images = 0;
+        for (const auto& e : std::filesystem::directory_iterator(one + "/runs"))
+            if (e.path().extension() == ".npy") {
+                INFO(e.path().filename());
+                CHECK(test::file_contents(e.path()) ==
+                      test::file_contents(ranks + "/runs/" + e.path().filename().string()));
+                ++images;
+            }
+        CHECK(images == 12);  // the 10 runs and the 2 views' references
+    }
+}
+
 TEST_CASE("mpirun: a rank that cannot read its piece ends every rank, with the piece named and no image")
 {
     TempDir dir("mpi-fail");
@@ -291,7 +347,8 @@ TEST_CASE("mpirun: what the data-parallel run cannot do is refused on every rank
                  {3, "render " + quoted(pvtu) + out, "has 2 pieces for 3 ranks"},
                  {2, "render " + quoted(pvtu) + " --algo raycast" + out, "runs --algo reference, havs or vicp"},
                  {2, "render " + quoted(pvtu) + " --algo havs --parts 2" + out, "the .pvtu's pieces are the parts"},
-                 {2, "info " + quoted(pvtu), "runs render only"}};
+                 {2, "info " + quoted(pvtu), "runs render and sweep only"},
+                 {2, "sweep builtin:torus-volume --report " + quoted(dir.file("never")), "runs in one process"}};
     for (const auto& c : cases) {
         const CommandResult r = run_ranks(c.ranks, c.args);
         INFO(c.args << "\n" << r.err);
@@ -299,5 +356,6 @@ TEST_CASE("mpirun: what the data-parallel run cannot do is refused on every rank
         CHECK(r.exit_code != 124);
         CHECK_THAT(r.err, Catch::Contains(c.message));
         CHECK_FALSE(std::filesystem::exists(dir.file("never.npy")));
+        CHECK_FALSE(std::filesystem::exists(dir.file("never")));
     }
 }
