@@ -19,7 +19,8 @@ struct PlannedRun {
 
 // Collective. Renders the runs whose `wanted` flag is set (read on rank 0 only), dealt round robin in list order (one
 // run a rank a round), and returns every result on rank 0 by tag: the image, ms, stats and ordering errors (the other
-// diagnostics stay empty); rank 0 holds every image until it returns. The other ranks return an empty map. A failing run ends every rank (mpi::RanksFailed).
+// diagnostics stay empty); rank 0 holds every image until it returns. The other ranks return an empty map. A failing
+// run ends every rank (mpi::RanksFailed).
 std::map<std::string, AlgoResult> render_across_ranks(Scene& scene, const std::vector<PlannedRun>& runs,
                                                       std::vector<char> wanted);
 
