@@ -10,6 +10,7 @@
 #include "bench/sort_last.h"
 #include "distributed/exchange.h"
 #include "distributed/mpi_runtime.h"
+#include "reference/builtin_mesh.h"
 #include "reference/error.h"
 #include "reference/fragments.h"
 #include "reference/io_util.h"
@@ -42,17 +43,32 @@ nlohmann::json rank_json(const mpi::RankStats& r)
               {"composite", x.composite_seconds}}}};
 }
 
+// This rank's pieces of a .pvtu, or its z-slab of builtin:grid-N's cubes (one piece a rank, made without a file).
+Dataset rank_part(const std::string& path)
+{
+    const std::size_t rank = std::size_t(mpi::rank()), ranks = std::size_t(mpi::ranks());
+    if (const int n = builtin_grid_cubes(path)) {
+        if (std::size_t(n) < ranks)
+            throw InputError(path, "has " + std::to_string(n) + " layers of cubes for " + std::to_string(ranks) +
+                                       " ranks (each rank makes at least one)");
+        Dataset d;
+        d.mesh = builtin_grid(n, int(rank * std::size_t(n) / ranks), int((rank + 1) * std::size_t(n) / ranks));
+        d.piece_of_cell.assign(d.mesh->tets.size(), uint32_t(rank));
+        return d;
+    }
+    if (file_extension(path) != ".pvtu")
+        throw InputError(path,
+                         "under mpirun, uvr render reads a .pvtu of pieces (uvr partition writes one) or "
+                         "makes builtin:grid-N");
+    return read_pvtu(path, rank, ranks);
+}
+
 // This rank's part of the scene: its pieces read, the whole mesh's extent agreed, the scene set up on it.
 Scene rank_scene(const SceneOptions& o, mpi::RankStats& st)
 {
     const auto start = Clock::now();
     std::optional<Dataset> data;
-    mpi::on_every_rank([&] {
-        if (file_extension(o.input.path) != ".pvtu")
-            throw InputError(o.input.path,
-                             "under mpirun, uvr render reads a .pvtu of pieces (uvr partition writes one)");
-        data = read_pvtu(o.input.path, std::size_t(mpi::rank()), std::size_t(mpi::ranks()));
-    });
+    mpi::on_every_rank([&] { data = rank_part(o.input.path); });
     st.read_seconds = ms_since(start) / 1000.0;
     SceneExtent whole;
     mpi::on_every_rank([&] {

@@ -89,6 +89,61 @@ TetMesh builtin_torus(std::size_t target_tets)
     return mesh;
 }
 
+double builtin_grid_field(const glm::dvec3& p)
+{
+    return 0.5 + 0.25 * std::sin(3.0 * p.x) * std::cos(2.0 * p.y) + 0.25 * p.z;
+}
+
+TetMesh builtin_grid(int n, int z_begin, int z_end)
+{
+    const std::size_t side = std::size_t(n) + 1, layers = std::size_t(z_end - z_begin) + 1;
+    TetMesh mesh;
+    mesh.source = "builtin:grid-" + std::to_string(n);
+    mesh.points.reserve(side * side * layers);
+    ScalarField field{"wave", {}};
+    field.values.reserve(side * side * layers);
+    // Coordinates from the global index, so that two slabs meeting at a layer make the same points there.
+    const auto coordinate = [n](int i) { return -1.0 + 2.0 * double(i) / double(n); };
+    for (int k = z_begin; k <= z_end; ++k)
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) {
+                mesh.points.push_back({coordinate(i), coordinate(j), coordinate(k)});
+                field.values.push_back(builtin_grid_field(mesh.points.back()));
+            }
+    // The six tetrahedra of a cube: from the lowest corner, one step along each axis in each of the six orders, to the
+    // highest corner. Corner c of a cube is (c & 1, c >> 1 & 1, c >> 2 & 1). The paths in the axes' even orders (x y z,
+    // y z x, z x y) make positive tetrahedra; the odd orders' list their last two corners swapped to be positive too.
+    static constexpr int kPaths[6][4] = {{0, 1, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7},
+                                         {0, 2, 7, 3}, {0, 4, 7, 6}, {0, 1, 7, 5}};
+    mesh.tets.reserve(6 * std::size_t(n) * std::size_t(n) * std::size_t(z_end - z_begin));
+    for (int k = 0; k < z_end - z_begin; ++k)
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const auto corner = [&](int c) {
+                    return uint32_t((std::size_t(k + (c >> 2 & 1)) * side + std::size_t(j + (c >> 1 & 1))) * side +
+                                    std::size_t(i + (c & 1)));
+                };
+                for (const auto& path : kPaths)
+                    mesh.tets.push_back({corner(path[0]), corner(path[1]), corner(path[2]), corner(path[3])});
+            }
+    mesh.fields.push_back(std::move(field));
+    finalize_mesh(mesh);
+    return mesh;
+}
+
+int builtin_grid_cubes(const std::string& path)
+{
+    const std::string prefix = "builtin:grid-";
+    if (path.rfind(prefix, 0) != 0) return 0;
+    const std::string digits = path.substr(prefix.size());
+    char* end = nullptr;
+    const unsigned long n = std::strtoul(digits.c_str(), &end, 10);
+    if (digits.empty() || *end != 0 || n < 1 || n > unsigned(kBuiltinGridMaxCubes))
+        throw InputError(path, "builtin:grid-N takes a number of cubes along each axis N from 1 to " +
+                                   std::to_string(kBuiltinGridMaxCubes));
+    return int(n);
+}
+
 bool is_builtin_path(const std::string& path) { return path.rfind("builtin:", 0) == 0; }
 
 Volume builtin_torus_volume()
@@ -131,8 +186,10 @@ TetMesh load_builtin(const std::string& path)
         throw InputError(path, "builtin:torus-N takes a tetrahedron count N from 100 to " +
                                    std::to_string(kBuiltinTorusMaxTets));
     }
-    throw InputError(path, "unknown built-in data set (known: builtin:torus, builtin:torus-small, builtin:torus-N, "
-                           "builtin:torus-volume)");
+    if (const int n = builtin_grid_cubes(path)) return builtin_grid(n, 0, n);
+    throw InputError(path,
+                     "unknown built-in data set (known: builtin:torus, builtin:torus-small, builtin:torus-N, "
+                     "builtin:torus-volume, builtin:grid-N)");
 }
 
 }  // namespace uvr

@@ -24,7 +24,7 @@ TetMesh builtin_torus(std::size_t target_tets);
 
 // Pseudo-paths understood by load_dataset(): "builtin:torus" (the demo mesh, about 100 K tetrahedra),
 // "builtin:torus-small" (about 5 K, for fast tests) and "builtin:torus-N" (about N, 100 <= N <= kBuiltinTorusMaxTets:
-// the scaling study). Returns true and fills `mesh` when `path` is one of them.
+// the scaling study), "builtin:grid-N" (above).
 bool is_builtin_path(const std::string& path);
 TetMesh load_builtin(const std::string& path);
 
@@ -33,6 +33,16 @@ TetMesh load_builtin(const std::string& path);
 // circle and r the minor radius, times 0.75 + 0.25 sin(3x) cos(2y) so that the ring carries structure.
 inline constexpr const char* kBuiltinVolumePath = "builtin:torus-volume";
 Volume builtin_torus_volume();
+
+// "builtin:grid-N": the cube [-1, 1]^3 cut into N^3 cubes, each into the six tetrahedra around its diagonal from its
+// lowest to its highest corner (the split is conforming: neighbouring cubes cut their shared face alike), 6 N^3
+// tetrahedra with the analytic field "wave" at the points. builtin_grid makes the z-slab of cubes [z_begin, z_end) on
+// its own (a data-parallel run makes its part without a file); its points and scalars are those of the whole grid.
+inline constexpr int kBuiltinGridMaxCubes = 400;  // 384 M tetrahedra, past what 24 GB holds in one process
+double builtin_grid_field(const glm::dvec3& p);
+TetMesh builtin_grid(int n, int z_begin, int z_end);
+// N of "builtin:grid-N" (0 when `path` is not of that form; InputError naming `path` for an N out of range).
+int builtin_grid_cubes(const std::string& path);
 
 inline constexpr std::size_t kBuiltinTorusTets = 100000;
 inline constexpr std::size_t kBuiltinTorusSmallTets = 5000;

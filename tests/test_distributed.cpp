@@ -10,6 +10,7 @@
 
 #include "distributed/exchange.h"
 #include "mesh_scenes.h"
+#include "reference/builtin_mesh.h"
 #include "reference/fragments.h"
 #include "reference/partition.h"
 #include "reference/reference_renderer.h"
@@ -256,6 +257,64 @@ TEST_CASE("mpirun: sort-last HAVS and VICP over the pieces equal the one-process
     }
 }
 
+TEST_CASE("builtin:grid-N's slabs, made on their own, are the whole grid's cells, points and scalars")
+{
+    constexpr int n = 5;
+    const TetMesh whole = builtin_grid(n, 0, n);
+    REQUIRE(whole.tets.size() == 6u * n * n * n);
+    REQUIRE(whole.points.size() == std::size_t(n + 1) * (n + 1) * (n + 1));
+    // The six tetrahedra of a cube fill it: the volumes add up to the box's, 8, and every one is positive.
+    double volume = 0.0;
+    for (const Tet& t : whole.tets) {
+        const double v6 =
+            signed_volume6(whole.points[t[0]], whole.points[t[1]], whole.points[t[2]], whole.points[t[3]]);
+        REQUIRE(v6 > 0.0);
+        volume += v6 / 6.0;
+    }
+    CHECK(std::fabs(volume - 8.0) < 1e-12);
+    // Conforming: every internal face is shared by exactly two tetrahedra, and the boundary is the box's six sides
+    // of n x n squares, two triangles each.
+    const MeshTopology topo = build_topology(whole);
+    std::size_t boundary = 0;
+    for (const Face& f : topo.faces) boundary += f.boundary() ? 1 : 0;
+    CHECK(boundary == 6u * 2 * n * n);
+    // A slab's cells, in order, are the whole grid's cells of those layers, point for point and scalar for scalar.
+    const TetMesh slab = builtin_grid(n, 2, 4);
+    REQUIRE(slab.tets.size() == 6u * n * n * 2);
+    const std::size_t first = 6u * n * n * 2;
+    for (std::size_t t = 0; t < slab.tets.size(); ++t)
+        for (int k = 0; k < 4; ++k) {
+            const uint32_t a = slab.tets[t][std::size_t(k)], b = whole.tets[first + t][std::size_t(k)];
+            REQUIRE(slab.points[a] == whole.points[b]);
+            REQUIRE(slab.fields[0].values[a] == whole.fields[0].values[b]);
+        }
+}
+
+TEST_CASE("mpirun: the ranks make builtin:grid-N's slabs without a file and render the one-process grid's image")
+{
+    TempDir dir("mpi-grid");
+    const std::string inside = dir.write(
+        "inside.json", R"({"eye": [0.2, -0.3, 0.1], "target": [1, 1, 0.5], "up": [0, 0, 1], "fovy_deg": 90})");
+    for (const std::string& view : {std::string("--view 30,20"), "--camera " + quoted(inside)}) {
+        const std::string common = " --size 96x80 " + view + " --no-cache --out ";
+        const std::string one = dir.file("one.npy"), ranks = dir.file("ranks.npy");
+        REQUIRE(test::run_uvr("render builtin:grid-10" + common + quoted(one)).exit_code == 0);
+        // 10 layers of cubes on 3 ranks: 3, 3 and 4 layers.
+        const CommandResult r = run_ranks(3, "render builtin:grid-10" + common + quoted(ranks) + " --json");
+        INFO(view << "\n" << r.err);
+        REQUIRE(r.exit_code == 0);
+        const ImageDiff d = diff(read_npy(ranks), read_npy(one));
+        INFO(d.differing << " of " << d.covered << " covered pixels differ, by at most " << d.max);
+        CHECK(d.covered > 2000);
+        CHECK(d.max <= kDistributedTolerance);
+        const nlohmann::json j = nlohmann::json::parse(r.out);
+        REQUIRE(j["ranks"].size() == 3u);
+        CHECK(j["ranks"][0]["cells"] == 1800);
+        CHECK(j["ranks"][1]["cells"] == 1800);
+        CHECK(j["ranks"][2]["cells"] == 2400);
+    }
+}
+
 namespace {
 
 // sweep.csv without its last column, `ms`: the wall time of each run, which differs between any two sweeps (two in one
@@ -348,6 +407,7 @@ TEST_CASE("mpirun: what the data-parallel run cannot do is refused on every rank
                  {2, "render " + quoted(pvtu) + " --algo raycast" + out, "runs --algo reference, havs or vicp"},
                  {2, "render " + quoted(pvtu) + " --algo havs --parts 2" + out, "the .pvtu's pieces are the parts"},
                  {2, "info " + quoted(pvtu), "runs render and sweep only"},
+                 {3, "render builtin:grid-2" + out, "has 2 layers of cubes for 3 ranks"},
                  {2, "sweep builtin:torus-volume --report " + quoted(dir.file("never")), "runs in one process"}};
     for (const auto& c : cases) {
         const CommandResult r = run_ranks(c.ranks, c.args);
