@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include <glm/geometric.hpp>
+#include <tbb/parallel_sort.h>
 
 #include "reference/error.h"
 
@@ -29,6 +30,11 @@ struct FaceRef {
     uint32_t tet;
     uint8_t local;
 };
+
+bool same_face(const FaceRef& a, const FaceRef& b)
+{
+    return a.key[0] == b.key[0] && a.key[1] == b.key[1] && a.key[2] == b.key[2];
+}
 
 std::array<uint32_t, 3> sorted3(std::array<uint32_t, 3> a)
 {
@@ -80,8 +86,12 @@ MeshTopology build_topology(const TetMesh& mesh)
             refs.push_back({sorted3(f), static_cast<uint32_t>(t), static_cast<uint8_t>(i)});
         }
     }
-    std::sort(refs.begin(), refs.end(), [](const FaceRef& a, const FaceRef& b) {
-        return a.key != b.key ? a.key < b.key : (a.tet != b.tet ? a.tet < b.tet : a.local < b.local);
+    // Compared field by field: std::array's operators compare through memcmp calls, which took most of this sort. The
+    // order is total (no two references share tetrahedron and corner), so the parallel sort's result is the same on
+    // any number of threads.
+    tbb::parallel_sort(refs.begin(), refs.end(), [](const FaceRef& a, const FaceRef& b) {
+        return std::tie(a.key[0], a.key[1], a.key[2], a.tet, a.local) <
+               std::tie(b.key[0], b.key[1], b.key[2], b.tet, b.local);
     });
 
     topo.tet_faces.assign(nt, {-1, -1, -1, -1});
@@ -89,7 +99,7 @@ MeshTopology build_topology(const TetMesh& mesh)
     topo.faces.reserve(nt * 2 + nt / 4);
     for (std::size_t r = 0; r < refs.size();) {
         std::size_t e = r + 1;
-        while (e < refs.size() && refs[e].key == refs[r].key) ++e;
+        while (e < refs.size() && same_face(refs[e], refs[r])) ++e;
         const std::size_t count = e - r;
         if (count > 2)
             throw InputError(mesh.source, "face " + face_text(refs[r].key) + " is shared by " +
