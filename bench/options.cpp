@@ -9,7 +9,8 @@ namespace uvr::cli {
 
 void add_input_options(CLI::App& cmd, InputOptions& in)
 {
-    cmd.add_option("MESH", in.path, "Mesh or volume file (or builtin:torus, builtin:torus-small)")->required();
+    cmd.add_option("MESH", in.path, "Mesh or volume file (or builtin:torus, builtin:torus-small, builtin:grid-N)")
+        ->required();
     cmd.add_option("--q", in.q_file, "PLOT3D solution (Q) file; MESH is then the PLOT3D XYZ file");
     cmd.add_option("--dims", in.dims, "Raw volume size X,Y,Z (x fastest)");
     cmd.add_option("--dtype", in.dtype, "Raw volume voxel type (uint8, int16, float32, ...)");
