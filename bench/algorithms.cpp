@@ -202,11 +202,21 @@ private:
 
 // --- HAVS (gpu/havs/): emulated, or on GL ---
 
+// A part of a larger mesh normalizes its scalars and spans its table as the whole does (SceneExtent).
+template <class Options>
+void span_whole(const Scene& s, Options& o)
+{
+    if (!s.whole) return;
+    o.scalar_range = s.whole->range;
+    if (s.whole->longest_edge > 0.0) o.table_max_length = s.whole->longest_edge;
+}
+
 class HavsRendererEntry : public Renderer {
 public:
     HavsRendererEntry(const Scene& s, const AlgoOptions& a) : a_(a)
     {
-        const gpu::HavsOptions o = havs_options(a);
+        gpu::HavsOptions o = havs_options(a);
+        span_whole(s, o);
         if (a.backend == "emu") {
             // Without diagnostics as the GL driver is timed (bench): the same image, no per-pixel counts.
             emu_ = std::make_unique<gpu::HavsRenderer>(s.mesh(), *s.topology, s.field, s.tf, o, a.diagnostics);
@@ -299,7 +309,8 @@ class VicpRendererEntry : public Renderer {
 public:
     VicpRendererEntry(const Scene& s, const AlgoOptions& a) : a_(a)
     {
-        const gpu::VicpOptions o = vicp_options(a);
+        gpu::VicpOptions o = vicp_options(a);
+        span_whole(s, o);
         if (a.backend == "emu") {
             emu_ = std::make_unique<gpu::VicpRenderer>(s.mesh(), *s.topology, s.field, s.tf, o);
             return;

@@ -9,6 +9,7 @@
 
 #include "bench/sort_last.h"
 #include "distributed/exchange.h"
+#include "gpu/pipeline/segment.h"
 #include "distributed/mpi_runtime.h"
 #include "reference/builtin_mesh.h"
 #include "reference/error.h"
@@ -75,8 +76,9 @@ Scene rank_scene(const SceneOptions& o, mpi::RankStats& st)
         const TetMesh& mesh = *data->mesh;
         whole.bounds = mesh_bounds(mesh);
         whole.range = field_range(mesh.fields[find_field(mesh, o.input.field)]);
+        whole.longest_edge = gpu::longest_tet_edge(mesh);
     });
-    mpi::reduce_extent(whole.bounds, whole.range);
+    mpi::reduce_extent(whole.bounds, whole.range, whole.longest_edge);
     std::optional<Scene> scene;
     const auto t_setup = Clock::now();  // the topology of the part: the first half of "build"
     mpi::on_every_rank([&] { scene.emplace(setup_scene(std::move(*data), o, whole)); });

@@ -81,6 +81,7 @@ Scene setup_with_extent(Dataset data, const SceneOptions& o, const SceneExtent* 
     if (whole) {
         b = whole->bounds;
         range = whole->range;
+        s.whole = *whole;
     }
     // The default: over a regular grid transparent around the histogram's dominant (background) value; --tf
     // preset:NAME puts one of ParaView's colour maps on the default's extinction.

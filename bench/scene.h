@@ -37,6 +37,15 @@ struct SceneOptions {
     std::optional<Camera> camera;
 };
 
+// The whole data's bounds, field range and longest edge, where `data` holds a part of it (a rank's pieces, a sort-last
+// part): the default camera and transfer function are then the whole's, as one process reading everything sets them,
+// and HAVS's and VICP's tables span the whole's range and longest edge on every part.
+struct SceneExtent {
+    Bounds bounds;
+    Range range;
+    double longest_edge = 0.0;
+};
+
 struct Scene {
     Dataset data;
     std::size_t field = 0;
@@ -44,6 +53,7 @@ struct Scene {
     Camera camera;
     int width = 0, height = 0;
     std::unique_ptr<MeshTopology> topology;  // meshes only
+    std::optional<SceneExtent> whole;        // set where the mesh is a part of a larger one
     bool is_volume() const { return data.volume.has_value(); }
     // The tetrahedral mesh; throws InputError for a regular grid (what needs a mesh refuses a volume cleanly).
     const TetMesh& mesh() const;
@@ -55,12 +65,6 @@ struct Scene {
 Scene setup_scene(const SceneOptions& o);
 // The same on data already loaded (o.input names only the field; its path is not read).
 Scene setup_scene(Dataset data, const SceneOptions& o);
-// The whole data's bounds and field range, where `data` holds a part of it (a rank's pieces): the default camera and
-// transfer function are then the whole's, as one process reading everything sets them.
-struct SceneExtent {
-    Bounds bounds;
-    Range range;
-};
 Scene setup_scene(Dataset data, const SceneOptions& o, const SceneExtent& whole);
 
 }  // namespace uvr::cli

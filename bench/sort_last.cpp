@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "gpu/pipeline/segment.h"
 #include "reference/error.h"
 #include "reference/partition.h"
 #include "reference/segment_integral.h"
@@ -91,6 +92,9 @@ Scene part_scene(const Scene& s, TetMesh part)
     p.camera = s.camera;
     p.width = s.width;
     p.height = s.height;
+    p.whole = s.whole ? *s.whole
+                      : SceneExtent{mesh_bounds(s.mesh()), field_range(s.mesh().fields[s.field]),
+                                    gpu::longest_tet_edge(s.mesh())};
     p.topology = std::make_unique<MeshTopology>(build_topology(*p.data.mesh));
     return p;
 }

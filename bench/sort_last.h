@@ -22,7 +22,8 @@ std::vector<uint32_t> back_to_front(const std::vector<Bounds>& boxes, const Came
 // The box of a part's cell centroids (the region recursive coordinate bisection put the part's cells in).
 Bounds centroid_box(const TetMesh& part);
 
-// The scene of one part: its cells with the whole scene's field, transfer function, camera and size.
+// The scene of one part: its cells with the whole scene's field, transfer function, camera and size, and the whole's
+// extent (SceneExtent: its tables span the whole's range and longest edge).
 Scene part_scene(const Scene& s, TetMesh part);
 
 // Images (premultiplied RGBA) blended in `order`, back to front (each over what is behind it), in double and rounded

@@ -85,13 +85,14 @@ void agree(const std::string& error)
     throw RanksFailed("", text);
 }
 
-void reduce_extent(Bounds& bounds, Range& range)
+void reduce_extent(Bounds& bounds, Range& range, double& longest_edge)
 {
     if (!g_active) return;
     double lo[4] = {bounds.lo.x, bounds.lo.y, bounds.lo.z, range.lo};
-    double hi[4] = {bounds.hi.x, bounds.hi.y, bounds.hi.z, range.hi};
+    double hi[5] = {bounds.hi.x, bounds.hi.y, bounds.hi.z, range.hi, longest_edge};
     MPI_Allreduce(MPI_IN_PLACE, lo, 4, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
-    MPI_Allreduce(MPI_IN_PLACE, hi, 4, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, hi, 5, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    longest_edge = hi[4];
     bounds.lo = glm::dvec3(lo[0], lo[1], lo[2]);
     bounds.hi = glm::dvec3(hi[0], hi[1], hi[2]);
     range = Range{lo[3], hi[3]};

@@ -54,8 +54,8 @@ void on_every_rank(Stage&& stage)
     agree(error);
 }
 
-// The whole data's bounds and field range from each rank's part (componentwise min and max). Collective.
-void reduce_extent(Bounds& bounds, Range& range);
+// The whole data's bounds, field range and longest edge from each rank's part (componentwise min and max). Collective.
+void reduce_extent(Bounds& bounds, Range& range, double& longest_edge);
 
 // Ends every rank at once with exit status `code` (a failure some ranks may not know of: they could be waiting in a
 // collective call). Returns only without MPI.

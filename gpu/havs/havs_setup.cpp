@@ -17,8 +17,11 @@ namespace uvr::gpu {
 
 HavsMesh::HavsMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
                    const HavsOptions& options)
-    : drawn_mesh_(mesh, topo, field), mesh_(drawn_mesh_.mesh()), options_(options), integrator_(tf),
-      range_(field_range(mesh_.fields.at(drawn_mesh_.field())))
+    : drawn_mesh_(mesh, topo, field),
+      mesh_(drawn_mesh_.mesh()),
+      options_(options),
+      integrator_(tf),
+      range_(options.scalar_range.value_or(field_range(mesh_.fields.at(drawn_mesh_.field()))))
 {
     const double span = range_.hi > range_.lo ? range_.hi - range_.lo : 1.0;
     for (double s : mesh_.fields[drawn_mesh_.field()].values) scalar_n_.push_back((s - range_.lo) / span);

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -66,6 +67,9 @@ struct HavsOptions {
     int table_size = 128;     // texels along each of the table's three axes
     TexelFormat table_format = TexelFormat::f32;
     double table_max_length = 0.0;  // 0: the mesh's longest edge (no segment inside one cell is longer)
+    // The range the scalars are normalized over and the table spans; empty: the drawn field's own. A part of a larger
+    // mesh (sort-last) is given the whole's, as its table_max_length.
+    std::optional<Range> scalar_range;
     TextureFilter filter = TextureFilter::linear;
     Coverage coverage = Coverage::gpu;  // --coverage exact: the emulation covers pixels without snapping
     InterpolationMode interpolation = InterpolationMode::gpu;  // --interpolation exact: flat constants, double

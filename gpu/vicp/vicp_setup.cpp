@@ -14,8 +14,12 @@ namespace uvr::gpu {
 
 VicpMesh::VicpMesh(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
                    const VicpOptions& options)
-    : drawn_mesh_(mesh, topo, field), mesh_(drawn_mesh_.mesh()), topo_(drawn_mesh_.topology()), options_(options),
-      integrator_(tf), range_(field_range(mesh_.fields.at(drawn_mesh_.field())))
+    : drawn_mesh_(mesh, topo, field),
+      mesh_(drawn_mesh_.mesh()),
+      topo_(drawn_mesh_.topology()),
+      options_(options),
+      integrator_(tf),
+      range_(options.scalar_range.value_or(field_range(mesh_.fields.at(drawn_mesh_.field()))))
 {
     if (options_.table_size < 2 || options_.table_size > 1024)
         throw InputError("", "--table-size must be between 2 and 1024");

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "gpu/pipeline/drawn_mesh.h"
@@ -33,6 +34,7 @@ struct VicpOptions {
     int table_size = 128;
     TexelFormat table_format = TexelFormat::f32;
     double table_max_length = 0.0;  // 0: the mesh's longest edge
+    std::optional<Range> scalar_range;  // empty: the drawn field's own (as HavsOptions::scalar_range)
     TextureFilter filter = TextureFilter::linear;
     Coverage coverage = Coverage::gpu;  // --coverage exact: a cell covers the pixels whose rays cross it (emulation)
     // gpu: the published programs (docs/vicp.md "The published pipeline"; the cells a view cuts are drawn by the exact
