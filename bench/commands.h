@@ -22,6 +22,7 @@ void register_compare(CLI::App& app);
 void register_sweep(CLI::App& app);
 void register_budget(CLI::App& app);
 void register_partition(CLI::App& app);
+void register_verify(CLI::App& app);
 
 // compare's work, which demo shares: the reference and `algos` on scene `s` (and `images`, made elsewhere, each
 // under its label) measured against the reference, written to `dir` (images, error maps, metrics.json, index.html).

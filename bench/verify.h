@@ -1,0 +1,32 @@
+// Observed order of accuracy (docs/verification.md): how fast an error falls as a discretization parameter h is
+// refined, against the order the discretization promises, and the verdict.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace uvr::cli {
+
+// An observed order matches the expected one when it is at most this much lower (higher is faster convergence, which
+// passes). Sized from uvr's own refinements (docs/verification.md, "The verdict"): their least-squares orders lie
+// within 0.2 of the derived ones on the scenes measured, and an error that stalls falls short by more than 0.5.
+inline constexpr double kOrderTolerance = 0.25;
+
+// The orders of one error measure over the levels.
+struct OrderStudy {
+    std::vector<double> h, errors;
+    std::vector<double> orders;  // between levels i and i + 1: log(e_i / e_{i+1}) / log(h_i / h_{i+1})
+    double fitted = 0.0;         // the least-squares slope of log e against log h over every level
+    double expected = 0.0;
+    bool pass = false;  // fitted >= expected - kOrderTolerance
+};
+
+// `h` strictly decreasing and positive, `errors` positive and finite, at least `min_levels` levels (InputError
+// otherwise; `what` names the errors' source in the message).
+OrderStudy observed_order(const std::vector<double>& h, const std::vector<double>& errors, double expected,
+                          const std::string& what, std::size_t min_levels = 3);
+
+// A refinement sequence's h: `levels` values from `coarsest`, each half the one before.
+std::vector<double> halving(double coarsest, int levels);
+
+}  // namespace uvr::cli
