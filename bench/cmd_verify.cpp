@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <limits>
 
+#include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
 #include "bench/budget.h"
@@ -14,6 +15,8 @@
 #include "bench/report.h"
 #include "bench/verify.h"
 #include "gpu/raycast/raycast_setup.h"
+#include "reference/analytic_field.h"
+#include "reference/builtin_mesh.h"
 #include "reference/error.h"
 #include "reference/error_measures.h"
 #include "reference/io_util.h"
@@ -71,7 +74,11 @@ Expectation expected_order(const std::string& algo, const std::string& refine, c
                     "; scalars within half a texel of the range's ends read the end texel, a first-order "
                     "error there"};
     }
-    throw InputError("", "--refine takes step or table, found '" + refine + "'");
+    if (refine == "mesh")
+        return {2.0, 1.0,
+                "the mesh samples the analytic field at its points and interpolates it linearly in each tetrahedron: "
+                "an error of the second order in the cubes' edge for a smooth field"};
+    throw InputError("", "--refine takes step, table or mesh, found '" + refine + "'");
 }
 
 // The options of each level: the user's, or with --isolate every other switch exact (uvr budget's baseline), and the
@@ -221,11 +228,68 @@ nlohmann::json verify_images(const VerifyArgs& a)
     return j;
 }
 
+// The ray integral of the analytic field is computed to this error per channel (analytic_field.h): 1/300 of the
+// finest default level's RMSE (builtin:grid-32 from grid-4: 3.0e-4 measured, docs/verification.md), so that it moves
+// the observed orders by under 0.01.
+constexpr double kAnalyticTolerance = 1e-6;
+
+// --refine mesh: builtin:grid-N refined 1:8 per level, each measured against the ray integral of its analytic field.
+nlohmann::json verify_mesh(const VerifyArgs& a, const Expectation& ex)
+{
+    const int n0 = builtin_grid_cubes(a.scene.input.path);
+    if (n0 == 0)
+        throw InputError(a.scene.input.path,
+                         "--refine mesh refines builtin:grid-N (N cubes along each axis, doubled "
+                         "at each level), whose field is analytic");
+    if (a.levels < 3 || a.levels > 12 || (int64_t(n0) << (a.levels - 1)) > kBuiltinGridMaxCubes)
+        throw InputError(a.scene.input.path, "--refine mesh: " + std::to_string(a.levels) + " levels from " +
+                                                 std::to_string(n0) + " cubes pass " +
+                                                 std::to_string(kBuiltinGridMaxCubes) + " (3 levels at least)");
+    // One transfer function for every level: the default over the analytic field's range, [0, 1], unless given.
+    SceneOptions so = a.scene;
+    const Bounds box{glm::dvec3(-1.0), glm::dvec3(1.0)};
+    if (so.tf_path.empty() && !so.tf) so.tf = default_transfer_function(Range{0.0, 1.0}, glm::length(box.extent()));
+    std::vector<double> h;
+    std::vector<ErrorMeasures> e;
+    nlohmann::json levels = nlohmann::json::array();
+    Image exact;
+    for (int i = 0; i < a.levels; ++i) {
+        const int n = n0 << i;
+        so.input.path = "builtin:grid-" + std::to_string(n);
+        const Scene s = setup_scene(so);
+        if (i == 0)
+            exact = render_analytic(builtin_grid_field, box, s.tf, s.camera, s.width, s.height, kAnalyticTolerance);
+        const AlgoResult r = run_algorithm(s, a.algo, a.algo_options);
+        h.push_back(2.0 / double(n));
+        e.push_back(measure_errors(r.image, exact));
+        levels.push_back({{"h", h.back()},
+                          {"cubes", n},
+                          {"tetrahedra", s.mesh().tets.size()},
+                          {"rmse", e.back().rmse},
+                          {"max_abs", e.back().max_abs},
+                          {"ms", r.ms}});
+    }
+    nlohmann::json j = orders_json(h, e, ex.rmse, ex.max_abs, a.algo + " --refine mesh");
+    j["levels"] = levels;
+    j["analytic_tolerance"] = kAnalyticTolerance;
+    return j;
+}
+
 // uvr renders `algo` at each level and measures it against the reference.
 nlohmann::json verify_renders(const VerifyArgs& a)
 {
     if (a.algo.empty()) throw InputError("", "--algo names the renderer whose order is verified");
-    if (a.refine.empty()) throw InputError("", "--refine says what is refined: step or table");
+    if (a.refine.empty()) throw InputError("", "--refine says what is refined: step, table or mesh");
+    if (a.refine == "mesh") {
+        nlohmann::json j = verify_mesh(a, expected_order(a.algo, a.refine, a.algo_options));
+        j["mode"] = "render";
+        j["input"] = a.scene.input.path;
+        j["algo"] = a.algo;
+        j["refine"] = a.refine;
+        j["isolate"] = false;
+        j["derivation"] = expected_order(a.algo, a.refine, a.algo_options).derivation;
+        return j;
+    }
     Scene s = setup_scene(a.scene);
     check_algorithm_scene(s, a.algo);
     const Expectation ex = expected_order(a.algo, a.refine, a.algo_options);
@@ -309,10 +373,10 @@ void register_verify(CLI::App& app)
     add_scene_options(*cmd, a->scene);
     cmd->get_option("MESH")->required(false);
     add_algo_options(*cmd, a->algo_options, false);
-    cmd->add_option("--algo", a->algo, "The renderer: raycast, havs or vicp");
+    cmd->add_option("--algo", a->algo, "The renderer: raycast, havs or vicp (and reference with --refine mesh)");
     cmd->add_option("--refine", a->refine,
-                    "What is refined: step (the ray caster's sampling distance) | table "
-                    "(the pre-integration table's size n, h = 1/n)");
+                    "What is refined: step (the ray caster's sampling distance) | table (the pre-integration "
+                    "table's size n, h = 1/n) | mesh (builtin:grid-N, against its analytic field's integral)");
     cmd->add_option("--levels", a->levels, "Levels, each halving h")->capture_default_str();
     cmd->add_option("--from", a->from,
                     "The coarsest level: the step in world units (default twice the default "
