@@ -2,7 +2,14 @@
 
 #include <cmath>
 
+#include <glm/geometric.hpp>
+
+#include "bench/budget.h"
+#include "gpu/raycast/raycast_setup.h"
+#include "reference/analytic_field.h"
+#include "reference/builtin_mesh.h"
 #include "reference/error.h"
+#include "reference/error_measures.h"
 
 namespace uvr::cli {
 
@@ -43,6 +50,247 @@ OrderStudy observed_order(const std::vector<double>& h, const std::vector<double
     s.fitted = sxy / sxx;
     s.pass = s.fitted >= expected - kOrderTolerance;
     return s;
+}
+
+namespace {
+
+// What a refinement of an algorithm converges at, per measure, and why (docs/verification.md derives each). The
+// largest error is one pixel's, whose ray may meet a kink of the integrand (a voxel face of the trilinear field, a
+// table's end, a breakpoint of the transfer function) at a place that moves with h: first order at worst.
+struct Expectation {
+    double rmse, max_abs;
+    std::string derivation;
+};
+
+Expectation expected_order(const std::string& algo, const std::string& refine, const AlgoOptions& o)
+{
+    if (refine == "step") {
+        if (algo != "raycast")
+            throw InputError("", "--refine step refines the ray caster's sampling distance (--algo raycast); " + algo +
+                                     " has no step");
+        if (!o.preintegrate)
+            return {1.0, 1.0, "post-classification is a left Riemann sum: each sample stands for a whole step"};
+        return {2.0, 1.0,
+                "pre-integration takes the scalar linear between samples, an error of the second order in the "
+                "step (the trilinear field's curvature along the ray)"};
+    }
+    if (refine == "table") {
+        if (algo != "havs" && algo != "vicp" && algo != "raycast")
+            throw InputError("", "--refine table refines HAVS's, VICP's or the pre-integrated ray caster's table; " +
+                                     algo + " has none");
+        if (algo == "raycast" && !o.preintegrate)
+            throw InputError("", "--refine table: the ray caster's table is pre-integration's (--preintegrate)");
+        const std::string interior =
+            "the table is interpolated linearly between texel centres, and the pre-integral "
+            "of a piecewise-linear transfer function has bounded second derivatives: an "
+            "error of the second order in the texel spacing 1/n";
+        if (algo == "raycast") return {2.0, 1.0, interior + " (the table's range is widened by half a texel)"};
+        return {2.0, 1.0,
+                interior +
+                    "; scalars within half a texel of the range's ends read the end texel, a first-order "
+                    "error there"};
+    }
+    if (refine == "mesh")
+        return {2.0, 1.0,
+                "the mesh samples the analytic field at its points and interpolates it linearly in each tetrahedron: "
+                "an error of the second order in the cubes' edge for a smooth field"};
+    throw InputError("", "--refine takes step, table or mesh, found '" + refine + "'");
+}
+
+// The options of each level: the user's, or with --isolate every other switch exact (uvr budget's baseline), and the
+// refined parameter at h.
+std::vector<AlgoOptions> level_options(const VerifyRequest& a, const Scene& s, const std::vector<double>& h)
+{
+    AlgoOptions base = a.options;
+    if (a.isolate) {
+        if (a.algo == "raycast" && base.step <= 0.0) base.step = gpu::default_raycast_step(s.volume());
+        base = budget_baseline(a.algo, base);
+        if (a.refine == "step") {
+            base.preintegrate = a.options.preintegrate;
+            if (!base.preintegrate) base.segment = a.options.segment;  // no segments to integrate exactly
+        }
+        if (a.refine == "table") base.segment = "table";
+    }
+    std::vector<AlgoOptions> out;
+    for (double x : h) {
+        AlgoOptions o = base;
+        if (a.refine == "step") o.step = x;
+        if (a.refine == "table") o.table_size = int(std::lround(1.0 / x));
+        find_algorithm(a.algo).check_options(o);
+        out.push_back(o);
+    }
+    return out;
+}
+
+// The refinement's h: steps in world units halving from --from, or 1/n for table sizes n doubling from --from (default
+// 16). The default first step is twice the default step (a voxel spacing) for post-classification; pre-integrated, a
+// quarter of the spacing: the trilinear field's kinks at voxel faces keep the order below 2 while a segment often holds
+// one (docs/verification.md).
+std::vector<double> refinement(const VerifyRequest& a, const Scene& s)
+{
+    if (a.levels < 3 || a.levels > 12) throw InputError("", "--levels takes 3 to 12 levels");
+    if (a.refine == "step") {
+        const double from = a.from > 0.0             ? a.from
+                            : a.options.preintegrate ? 0.5 * gpu::default_raycast_step(s.volume())
+                                                     : 2.0 * gpu::default_raycast_step(s.volume());
+        return halving(from, a.levels);
+    }
+    const int n0 = a.from > 0.0 ? int(std::lround(a.from)) : 16;
+    if (n0 < 2 || (int64_t(n0) << (a.levels - 1)) > 1024)
+        throw InputError("", "--refine table: table sizes from " + std::to_string(n0) + " over " +
+                                 std::to_string(a.levels) + " levels leave 2 to 1024");
+    return halving(1.0 / double(n0), a.levels);
+}
+
+nlohmann::json study_json(const OrderStudy& st, bool judged)
+{
+    nlohmann::json j = {{"errors", st.errors}, {"orders", st.orders}, {"order", st.fitted}};
+    j["verdict"] = judged ? nlohmann::json(st.pass ? "pass" : "fail") : nlohmann::json(nullptr);
+    return j;
+}
+
+// The orders of both measures, the expected order and the verdict (both measures pass, or fail).
+nlohmann::json orders_json(const std::vector<double>& h, const std::vector<ErrorMeasures>& e, double expected_rmse,
+                           double expected_max, const std::string& what, std::size_t min_levels = 3)
+{
+    std::vector<double> rmse, max_abs;
+    for (const ErrorMeasures& m : e) {
+        rmse.push_back(m.rmse);
+        max_abs.push_back(m.max_abs);
+    }
+    const bool judged = std::isfinite(expected_rmse);
+    const OrderStudy r = observed_order(h, rmse, judged ? expected_rmse : 0.0, what, min_levels);
+    const OrderStudy m = observed_order(h, max_abs, judged ? expected_max : 0.0, what, min_levels);
+    nlohmann::json j;
+    j["h"] = h;
+    j["measures"] = {{"rmse", study_json(r, judged)}, {"max_abs", study_json(m, judged)}};
+    j["expected_order"] =
+        judged ? nlohmann::json({{"rmse", expected_rmse}, {"max_abs", expected_max}}) : nlohmann::json(nullptr);
+    j["tolerance"] = kOrderTolerance;
+    j["verdict"] = judged ? nlohmann::json(r.pass && m.pass ? "pass" : "fail") : nlohmann::json(nullptr);
+    return j;
+}
+
+// What every render verification says of itself.
+void describe(nlohmann::json& j, const VerifyRequest& a, const Expectation& ex)
+{
+    j["mode"] = "render";
+    j["algo"] = a.algo;
+    j["refine"] = a.refine;
+    j["isolate"] = a.isolate;
+    j["derivation"] = ex.derivation;
+}
+
+// The ray integral of the analytic field is computed to this error per channel (analytic_field.h): 1/300 of the
+// finest default level's RMSE (builtin:grid-32 from grid-4: 3.0e-4 measured, docs/verification.md), so that it moves
+// the observed orders by under 0.01.
+constexpr double kAnalyticTolerance = 1e-6;
+
+// --refine mesh: builtin:grid-N refined 1:8 per level, each measured against the ray integral of its analytic field.
+nlohmann::json mesh_levels(const SceneOptions& scene, const VerifyRequest& a, const Expectation& ex)
+{
+    const int n0 = builtin_grid_cubes(scene.input.path);
+    if (n0 == 0)
+        throw InputError(scene.input.path,
+                         "--refine mesh refines builtin:grid-N (N cubes along each axis, doubled "
+                         "at each level), whose field is analytic");
+    if (a.levels < 3 || a.levels > 12 || (int64_t(n0) << (a.levels - 1)) > kBuiltinGridMaxCubes)
+        throw InputError(scene.input.path, "--refine mesh: " + std::to_string(a.levels) + " levels from " +
+                                               std::to_string(n0) + " cubes pass " +
+                                               std::to_string(kBuiltinGridMaxCubes) + " (3 levels at least)");
+    // One transfer function for every level: the default over the analytic field's range, [0, 1], unless given.
+    SceneOptions so = scene;
+    const Bounds box{glm::dvec3(-1.0), glm::dvec3(1.0)};
+    if (so.tf_path.empty() && !so.tf) so.tf = default_transfer_function(Range{0.0, 1.0}, glm::length(box.extent()));
+    std::vector<double> h;
+    std::vector<ErrorMeasures> e;
+    nlohmann::json levels = nlohmann::json::array();
+    Image exact;
+    for (int i = 0; i < a.levels; ++i) {
+        const int n = n0 << i;
+        so.input.path = "builtin:grid-" + std::to_string(n);
+        const Scene s = setup_scene(so);
+        if (i == 0)
+            exact = render_analytic(builtin_grid_field, box, s.tf, s.camera, s.width, s.height, kAnalyticTolerance);
+        const AlgoResult r = run_algorithm(s, a.algo, a.options);
+        h.push_back(2.0 / double(n));
+        e.push_back(measure_errors(r.image, exact));
+        levels.push_back({{"h", h.back()},
+                          {"cubes", n},
+                          {"tetrahedra", s.mesh().tets.size()},
+                          {"rmse", e.back().rmse},
+                          {"max_abs", e.back().max_abs},
+                          {"ms", r.ms}});
+    }
+    nlohmann::json j = orders_json(h, e, ex.rmse, ex.max_abs, a.algo + " --refine mesh");
+    j["levels"] = levels;
+    j["analytic_tolerance"] = kAnalyticTolerance;
+    describe(j, a, ex);
+    return j;
+}
+
+}  // namespace
+
+nlohmann::json verify_refinement(const SceneOptions& scene, const VerifyRequest& a)
+{
+    if (a.algo.empty()) throw InputError("", "--algo names the renderer whose order is verified");
+    if (a.refine.empty()) throw InputError("", "--refine says what is refined: step, table or mesh");
+    const Expectation ex = expected_order(a.algo, a.refine, a.options);
+    nlohmann::json j;
+    if (a.refine == "mesh") {
+        j = mesh_levels(scene, a, ex);
+    } else {
+        const Scene s = setup_scene(scene);
+        j = verify_refinement(s, a);
+    }
+    j["input"] = scene.input.path;
+    return j;
+}
+
+nlohmann::json verify_refinement(const Scene& s, const VerifyRequest& a)
+{
+    if (a.refine == "mesh") throw InputError("", "--refine mesh makes its own scenes (builtin:grid-N at each level)");
+    check_algorithm_scene(s, a.algo);
+    const Expectation ex = expected_order(a.algo, a.refine, a.options);
+    const std::vector<double> h = refinement(a, s);
+    const std::vector<AlgoOptions> opts = level_options(a, s, h);
+    const Image ref = run_algorithm(s, "reference", a.options).image;
+    std::vector<ErrorMeasures> e;
+    nlohmann::json levels = nlohmann::json::array();
+    for (std::size_t i = 0; i < h.size(); ++i) {
+        const AlgoResult r = run_algorithm(s, a.algo, opts[i]);
+        e.push_back(measure_errors(r.image, ref));
+        nlohmann::json l = {{"h", h[i]}, {"rmse", e.back().rmse}, {"max_abs", e.back().max_abs}, {"ms", r.ms}};
+        l[a.refine == "step" ? "step" : "table_size"] = a.refine == "step" ? opts[i].step : double(opts[i].table_size);
+        levels.push_back(l);
+    }
+    nlohmann::json j = orders_json(h, e, ex.rmse, ex.max_abs, a.algo + " --refine " + a.refine);
+    j["levels"] = levels;
+    describe(j, a, ex);
+    return j;
+}
+
+nlohmann::json verify_images(const std::vector<Image>& images, const std::vector<double>& h, const Image* reference,
+                             int channels, double expected)
+{
+    if (images.size() != h.size())
+        throw InputError("", "--images has " + std::to_string(images.size()) + " images and --h " +
+                                 std::to_string(h.size()) + " values: one h per image");
+    if (reference) {
+        std::vector<ErrorMeasures> e;
+        for (const Image& im : images) e.push_back(measure_errors(im, *reference, channels));
+        return orders_json(h, e, expected, expected, "--images");
+    }
+    // Successive differences d_i = |I_i - I_{i+1}| fall as h_i^p where h shrinks by one ratio from level to level.
+    for (std::size_t i = 2; i < h.size(); ++i)
+        if (std::fabs(std::log(h[i - 1] / h[i]) / std::log(h[i - 2] / h[i - 1]) - 1.0) > 1e-9)
+            throw InputError("", "--images without a reference: h must shrink by one ratio from level to level");
+    std::vector<ErrorMeasures> d;
+    for (std::size_t i = 0; i + 1 < images.size(); ++i) d.push_back(measure_errors(images[i], images[i + 1], channels));
+    nlohmann::json j = orders_json(std::vector<double>(h.begin(), h.end() - std::ptrdiff_t(h.empty() ? 0 : 1)), d,
+                                   expected, expected, "--images", 2);
+    j["h"] = h;
+    return j;
 }
 
 std::vector<double> halving(double coarsest, int levels)

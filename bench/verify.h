@@ -5,6 +5,11 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "bench/algorithms.h"
+#include "bench/scene.h"
+
 namespace uvr::cli {
 
 // An observed order matches the expected one when it is at most this much lower (higher is faster convergence, which
@@ -25,6 +30,26 @@ struct OrderStudy {
 // otherwise; `what` names the errors' source in the message).
 OrderStudy observed_order(const std::vector<double>& h, const std::vector<double>& errors, double expected,
                           const std::string& what, std::size_t min_levels = 3);
+
+// What `uvr verify` renders: `algo` at `levels` refinements of `refine` (step | table | mesh) from `from` (0: the
+// default), with `options` as given or, with `isolate`, every other switch exact.
+struct VerifyRequest {
+    std::string algo, refine;
+    int levels = 4;
+    double from = 0.0;
+    bool isolate = false;
+    AlgoOptions options;
+};
+
+// The levels rendered and measured against the reference (step, table) or the analytic field's integral (mesh, on
+// builtin:grid-N named by `scene`), their orders, the expected ones and the verdict: docs/verification.md's JSON.
+nlohmann::json verify_refinement(const SceneOptions& scene, const VerifyRequest& r);
+nlohmann::json verify_refinement(const Scene& s, const VerifyRequest& r);  // step and table, on a scene made already
+
+// Images at decreasing `h` against `reference`, or (null) their successive differences; `channels` 3 compares colour
+// only. `expected` NaN: no verdict.
+nlohmann::json verify_images(const std::vector<Image>& images, const std::vector<double>& h, const Image* reference,
+                             int channels, double expected);
 
 // A refinement sequence's h: `levels` values from `coarsest`, each half the one before.
 std::vector<double> halving(double coarsest, int levels);

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -16,6 +18,7 @@
 
 #include "bench/algorithms.h"
 #include "bench/budget.h"
+#include "bench/verify.h"
 #include "bench/scene.h"
 #include "reference/camera.h"
 #include "reference/error.h"
@@ -459,6 +462,52 @@ void bind_measures(py::module_& m)
         "The error budget of `algo` (havs, vicp, raycast) as `uvr budget` computes it (docs/budget.md): the baseline "
         "with every switch exact, one run per factor, the total, each against the reference; writes the report to "
         "`report` and returns budget.json's object (a dict). Options as render's.");
+    m.def(
+        "verify",
+        [](const PyScene& s, const std::string& algo, const std::string& refine, int levels, double from, bool isolate,
+           const py::kwargs& kwargs) {
+            uvr::cli::VerifyRequest r{algo, refine, levels, from, isolate, algo_options(kwargs)};
+            std::string text;
+            {
+                py::gil_scoped_release free_python;
+                text = uvr::cli::verify_refinement(*s.scene, r).dump();
+            }
+            return json_value(text);
+        },
+        py::arg("scene"), py::arg("algo"), py::arg("refine"), py::kw_only(), py::arg("levels") = 4,
+        py::arg("start") = 0.0, py::arg("isolate") = false,
+        "The observed order of accuracy as `uvr verify` computes it (docs/verification.md): `algo` rendered at "
+        "`levels` refinements of `refine` (step or table) from `start` (the program's --from; 0 the default), each "
+        "against the reference; isolate=True sets every other switch exact. Returns the JSON's object (a dict). "
+        "Options as render's.");
+    m.def(
+        "verify_images",
+        [](const py::sequence& images, const std::vector<double>& h, const py::object& reference,
+           const py::object& expected) {
+            std::vector<uvr::Image> levels;
+            int channels = 4;
+            for (const py::handle& im : images) {
+                const ArrayImage a = array_image(im, "images");
+                channels = std::min(channels, a.channels);
+                uvr::Image copy(a.view.width, a.view.height);
+                std::copy(a.view.rgba, a.view.rgba + copy.rgba.size(), copy.rgba.begin());
+                levels.push_back(std::move(copy));
+            }
+            std::optional<ArrayImage> ref;
+            if (!reference.is_none()) ref = array_image(reference, "reference");
+            uvr::Image ref_image;
+            if (ref) {
+                ref_image = uvr::Image(ref->view.width, ref->view.height);
+                std::copy(ref->view.rgba, ref->view.rgba + ref_image.rgba.size(), ref_image.rgba.begin());
+            }
+            const double p = expected.is_none() ? std::numeric_limits<double>::quiet_NaN() : expected.cast<double>();
+            return json_value(uvr::cli::verify_images(levels, h, ref ? &ref_image : nullptr, channels, p).dump());
+        },
+        py::arg("images"), py::arg("h"), py::kw_only(), py::arg("reference") = py::none(),
+        py::arg("expected") = py::none(),
+        "The observed order of an outside renderer's images at decreasing `h` (H x W x 4 or H x W x 3 arrays) against "
+        "`reference`, or from their successive differences without one, as `uvr verify --images` computes it; "
+        "`expected` gives the verdict. Returns a dict.");
 }
 
 // What uvr offers: algorithms and options.

@@ -247,6 +247,27 @@ def test_budget_gives_the_programs_budget(tmp_path):
         uvr.budget(scene, "reference", report=str(tmp_path / "never"))
 
 
+def test_verify_gives_the_programs_orders(tmp_path):
+    """uvr.verify returns the JSON `uvr verify --json` prints: the same levels and orders; uvr.verify_images recovers
+    the order of a synthetic sequence (docs/verification.md)."""
+    import json
+    scene = uvr.Scene("builtin:torus-small", **SMALL)
+    mine = uvr.verify(scene, "havs", "table", isolate=True)
+    theirs = json.loads(subprocess.run([PROGRAM, "verify", "builtin:torus-small", *SMALL_ARGS, "--algo", "havs",
+                                        "--refine", "table", "--isolate", "--json"],
+                                       check=True, capture_output=True, text=True).stdout)
+    assert mine["measures"] == theirs["measures"]
+    assert mine["verdict"] == theirs["verdict"] == "pass"
+    reference = np.full((8, 8, 4), 0.5, dtype=np.float32)
+    h = [1.0, 0.5, 0.25, 0.125]
+    images = [reference + np.float32(0.01 * x * x) for x in h]
+    got = uvr.verify_images(images, h, reference=reference, expected=2)
+    assert got["measures"]["rmse"]["order"] == pytest.approx(2.0, abs=0.05)
+    assert got["verdict"] == "pass"
+    with pytest.raises(uvr.Error, match="one h per image"):
+        uvr.verify_images(images, h[:3], reference=reference)
+
+
 def test_bad_input_raises_uvr_error_with_uvrs_message(tmp_path):
     assert issubclass(uvr.Error, ValueError)
     scene = uvr.Scene("builtin:torus-small", **SMALL)
