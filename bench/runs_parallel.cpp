@@ -70,6 +70,7 @@ private:
 
     void raw(void* p, std::size_t n)
     {
+        if (n == 0) return;  // an empty vector's data() may be null, which memcpy must not be given
         if (n > bytes_.size() - at_) throw std::logic_error("a run's bytes end early");
         std::memcpy(p, bytes_.data() + at_, n);
         at_ += n;
