@@ -112,6 +112,11 @@ void write_report(const std::string& dir, const nlohmann::json& j)
     }
     write_file_atomically(dir + "/verify.json", j.dump(1) + "\n");
     write_file_atomically(dir + "/verify.csv", csv);
+    // The plot by matplotlib (Debian's python3-matplotlib); without it the numbers still stand.
+    const std::string plot =
+        std::string("/usr/bin/python3 '") + UVR_SOURCE_DIR + "/bench/plots/verify_plots.py' '" + dir + "' 2>&1";
+    const bool plotted = std::system(plot.c_str()) == 0;
+    if (!plotted) std::fprintf(stderr, "uvr: warning: plot not drawn (needs python3-matplotlib)\n");
     char summary[256];
     std::snprintf(summary, sizeof summary,
                   "<p>Least-squares order: RMSE %.3f, largest error %.3f; expected %s "
@@ -122,6 +127,7 @@ void write_report(const std::string& dir, const nlohmann::json& j)
                           "<!doctype html><meta charset=utf-8><title>uvr verify</title><h1>Observed order of "
                           "accuracy</h1>" +
                               std::string(summary) +
+                              (plotted ? "<p><img src=\"verify.png\" alt=\"error against h\"></p>" : "") +
                               "<table border=1 cellpadding=4><tr><th>h<th>RMSE<th>largest error" + rows +
                               "</table><p>The numbers: verify.json, verify.csv (docs/verification.md).</p>\n");
 }
@@ -148,12 +154,13 @@ void register_verify(CLI::App& app)
     auto a = std::make_shared<VerifyArgs>();
     add_scene_options(*cmd, a->scene);
     cmd->get_option("MESH")->required(false);
-    add_algo_options(*cmd, a->request.options, false);
+    add_algo_options(*cmd, a->request.options);
     cmd->add_option("--algo", a->request.algo,
                     "The renderer: raycast, havs or vicp (and reference with --refine mesh)");
     cmd->add_option("--refine", a->request.refine,
                     "What is refined: step (the ray caster's sampling distance) | table (the pre-integration "
-                    "table's size n, h = 1/n) | mesh (builtin:grid-N, against its analytic field's integral)");
+                    "table's size n, h = 1/n) | mesh (builtin:grid-N, against its analytic field's integral) | size "
+                    "(the image's resolution, each pixel against the mean of its four children)");
     cmd->add_option("--levels", a->request.levels, "Levels, each halving h")->capture_default_str();
     cmd->add_option("--from", a->request.from,
                     "The coarsest level: the step in world units (default twice the default "

@@ -90,17 +90,25 @@ Expectation expected_order(const std::string& algo, const std::string& refine, c
                     "; scalars within half a texel of the range's ends read the end texel, a first-order "
                     "error there"};
     }
+    if (refine == "size")
+        return {0.5, 0.0,
+                "a pixel is its centre's ray, compared with the mean of its four children: O(h^2) where the image is "
+                "smooth, but a mesh's image has jumps at pixel scale (a boundary face seen edge-on ends a long path "
+                "abruptly; a field that jumps across a face): O(1) on the O(1/h) of the O(1/h^2) pixels along them, "
+                "RMSE O(h^(1/2)) and a largest error that need not fall"};
     if (refine == "mesh")
         return {2.0, 1.0,
                 "the mesh samples the analytic field at its points and interpolates it linearly in each tetrahedron: "
                 "an error of the second order in the cubes' edge for a smooth field"};
-    throw InputError("", "--refine takes step, table or mesh, found '" + refine + "'");
+    throw InputError("", "--refine takes step, table, mesh or size, found '" + refine + "'");
 }
 
 // The options of each level: the user's, or with --isolate every other switch exact (uvr budget's baseline), and the
 // refined parameter at h.
 std::vector<AlgoOptions> level_options(const VerifyRequest& a, const Scene& s, const std::vector<double>& h)
 {
+    if (a.refine == "step" && a.options.step > 0.0)
+        throw InputError("", "--refine step sets the step of each level: give the first with --from, not --step");
     AlgoOptions base = a.options;
     if (a.isolate) {
         if (a.algo == "raycast" && base.step <= 0.0) base.step = gpu::default_raycast_step(s.volume());
@@ -229,16 +237,65 @@ nlohmann::json mesh_levels(const SceneOptions& scene, const VerifyRequest& a, co
     return j;
 }
 
+// The mean of each 2 x 2 block of `fine` (of even size): the coarse pixel's box average.
+Image box_average(const Image& fine)
+{
+    Image out(fine.width / 2, fine.height / 2);
+    for (int j = 0; j < out.height; ++j)
+        for (int i = 0; i < out.width; ++i)
+            for (int c = 0; c < 4; ++c)
+                out.pixel(i, j)[c] = float(
+                    0.25 * (double(fine.pixel(2 * i, 2 * j)[c]) + double(fine.pixel(2 * i + 1, 2 * j)[c]) +
+                            double(fine.pixel(2 * i, 2 * j + 1)[c]) + double(fine.pixel(2 * i + 1, 2 * j + 1)[c])));
+    return out;
+}
+
+// --refine size: the scene at its size times 1, 2, 4, ... (h the pixel's side relative to the first level's); level i
+// against the box average of level i + 1, so `levels` images give levels - 1 errors.
+nlohmann::json size_levels(Scene& s, const VerifyRequest& a, const Expectation& ex)
+{
+    check_algorithm_scene(s, a.algo);
+    if (a.levels < 3 || a.levels > 12) throw InputError("", "--levels takes 3 to 12 levels");
+    const int w0 = s.width, h0 = s.height;
+    if ((int64_t(std::max(w0, h0)) << (a.levels - 1)) > 16384)
+        throw InputError("", "--refine size: " + std::to_string(w0) + "x" + std::to_string(h0) + " doubled " +
+                                 std::to_string(a.levels - 1) + " times passes 16384 pixels");
+    std::vector<Image> images;
+    nlohmann::json levels = nlohmann::json::array();
+    for (int i = 0; i < a.levels; ++i) {
+        s.width = w0 << i;
+        s.height = h0 << i;
+        AlgoResult r = run_algorithm(s, a.algo, a.options);
+        levels.push_back({{"h", std::ldexp(1.0, -i)}, {"width", s.width}, {"height", s.height}, {"ms", r.ms}});
+        images.push_back(std::move(r.image));
+    }
+    s.width = w0;
+    s.height = h0;
+    std::vector<double> h;
+    std::vector<ErrorMeasures> e;
+    for (int i = 0; i + 1 < a.levels; ++i) {
+        h.push_back(std::ldexp(1.0, -i));
+        e.push_back(measure_errors(images[std::size_t(i)], box_average(images[std::size_t(i) + 1])));
+    }
+    nlohmann::json j = orders_json(h, e, ex.rmse, ex.max_abs, a.algo + " --refine size", 2);
+    j["levels"] = levels;
+    describe(j, a, ex);
+    return j;
+}
+
 }  // namespace
 
 nlohmann::json verify_refinement(const SceneOptions& scene, const VerifyRequest& a)
 {
     if (a.algo.empty()) throw InputError("", "--algo names the renderer whose order is verified");
-    if (a.refine.empty()) throw InputError("", "--refine says what is refined: step, table or mesh");
+    if (a.refine.empty()) throw InputError("", "--refine says what is refined: step, table, mesh or size");
     const Expectation ex = expected_order(a.algo, a.refine, a.options);
     nlohmann::json j;
     if (a.refine == "mesh") {
         j = mesh_levels(scene, a, ex);
+    } else if (a.refine == "size") {
+        Scene s = setup_scene(scene);
+        j = size_levels(s, a, ex);
     } else {
         const Scene s = setup_scene(scene);
         j = verify_refinement(s, a);
@@ -249,7 +306,10 @@ nlohmann::json verify_refinement(const SceneOptions& scene, const VerifyRequest&
 
 nlohmann::json verify_refinement(const Scene& s, const VerifyRequest& a)
 {
-    if (a.refine == "mesh") throw InputError("", "--refine mesh makes its own scenes (builtin:grid-N at each level)");
+    if (a.refine != "step" && a.refine != "table")
+        throw InputError("",
+                         "on a scene made already, verify refines step or table (mesh and size make their own "
+                         "scenes: uvr verify)");
     check_algorithm_scene(s, a.algo);
     const Expectation ex = expected_order(a.algo, a.refine, a.options);
     const std::vector<double> h = refinement(a, s);

@@ -31,7 +31,7 @@ struct OrderStudy {
 OrderStudy observed_order(const std::vector<double>& h, const std::vector<double>& errors, double expected,
                           const std::string& what, std::size_t min_levels = 3);
 
-// What `uvr verify` renders: `algo` at `levels` refinements of `refine` (step | table | mesh) from `from` (0: the
+// What `uvr verify` renders: `algo` at `levels` refinements of `refine` (step | table | mesh | size) from `from` (0: the
 // default), with `options` as given or, with `isolate`, every other switch exact.
 struct VerifyRequest {
     std::string algo, refine;

@@ -1,5 +1,6 @@
 // `uvr verify` (docs/verification.md): observed orders of accuracy of sequences with a known order, the verdict, the
 // refusals, and uvr's own renderers at the orders their discretizations promise.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -134,6 +135,23 @@ TEST_CASE("uvr verify --images recovers the orders 1, 2 and 3 of synthetic seque
         }
 }
 
+TEST_CASE("uvr verify --report writes the JSON it prints, the CSV of its errors, the plot and a page")
+{
+    TempDir dir("verify-report");
+    const std::vector<double> h = {1.0, 0.5, 0.25};
+    const std::string report = dir.file("report");
+    const nlohmann::json j = run_json(sequence(
+                                          dir, h, [](double x) { return 0.05 * x * x; }, true) +
+                                      " --expected 2 --report " + in_quotes(report));
+    CHECK(nlohmann::json::parse(test::file_contents(report + "/verify.json")) == j);
+    const std::string csv = test::file_contents(report + "/verify.csv");
+    CHECK(csv.rfind("h,rmse,max_abs\n", 0) == 0);
+    CHECK(std::count(csv.begin(), csv.end(), '\n') == 4);
+    CHECK(test::file_prefix(report + "/verify.png", 8) == "\x89PNG\r\n\x1a\n");
+    const std::string page = test::file_contents(report + "/index.html");
+    CHECK_THAT(page, Catch::Contains("verify.png") && Catch::Contains("pass"));
+}
+
 TEST_CASE("uvr verify fails a sequence whose error stalls, and one slower than it should be")
 {
     TempDir dir("verify-stall");
@@ -183,8 +201,9 @@ TEST_CASE("uvr verify refuses too few levels, h that does not decrease, images t
         {"verify builtin:torus-volume --algo raycast --refine table", "--preintegrate"},
         {"verify builtin:torus-small --algo havs --refine table --levels 2", "3 to 12 levels"},
         {"verify builtin:torus-small --algo havs --refine table --from 512", "leave 2 to 1024"},
-        {"verify builtin:torus-small --algo havs --refine size", "step, table or mesh"},
+        {"verify builtin:torus-small --algo havs --refine sizes", "step, table, mesh or size"},
         {"verify builtin:torus-small --algo reference --refine mesh", "refines builtin:grid-N"},
+        {"verify builtin:torus-volume --algo raycast --refine step --step 0.1", "not --step"},
         {"verify builtin:grid-100 --algo reference --refine mesh", "pass 400"},
         {"verify", "takes MESH"},
     };
@@ -217,6 +236,8 @@ TEST_CASE("uvr's renderers converge at the orders docs/verification.md derives, 
         // stalls at its interpolation's error.
         {"verify builtin:grid-4 --size 48x48 --view 30,20 --algo reference --refine mesh", 2.0, 1.0, "pass"},
         {"verify builtin:grid-4 --size 48x48 --view 30,20 --algo vicp --refine mesh", 2.0, 1.0, "fail"},
+        // Image refinement: sizes 48 to 384, each pixel against the mean of its four children (3 errors).
+        {"verify builtin:torus-small --size 48x48 --view 30,20 --algo reference --refine size", 0.5, 0.0, "pass"},
     };
     for (const auto& c : cases) {
         const nlohmann::json j = run_json(c.args);
@@ -225,5 +246,6 @@ TEST_CASE("uvr's renderers converge at the orders docs/verification.md derives, 
         CHECK(j["expected_order"]["max_abs"] == c.max_order);
         CHECK(j["verdict"] == c.verdict);
         CHECK(j["levels"].size() == 4u);
+        CHECK(j["measures"]["rmse"]["errors"].size() == (c.args.find("--refine size") != std::string::npos ? 3u : 4u));
     }
 }
