@@ -52,7 +52,7 @@ nlohmann::json switches_json(const std::string& algo, const AlgoOptions& o)
     return j;
 }
 
-// SPEC §4's RMSE and largest error over the pixels whose `mask` is 0 (all four channels), and their count.
+// docs/spec.md §4's RMSE and largest error over the pixels whose `mask` is 0 (all four channels), and their count.
 nlohmann::json measures_outside(const Image& image, const Image& ref, const std::vector<uint32_t>& mask)
 {
     double sum = 0.0, largest = 0.0;
