@@ -187,6 +187,7 @@ void register_verify(CLI::App& app)
             throw InputError("",
                              "--expected, --h and --reference go with --images (a render's expected order is "
                              "derived: docs/verification.md)");
+        if (!a->report.empty()) a->request.images_dir = a->report + "/runs";
         const nlohmann::json j = a->images.empty() ? verify_refinement(a->scene, a->request) : images_of(*a);
         if (!a->report.empty()) write_report(a->report, j);
         if (a->json)

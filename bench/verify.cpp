@@ -1,6 +1,7 @@
 #include "bench/verify.h"
 
 #include <cmath>
+#include <filesystem>
 
 #include <glm/geometric.hpp>
 
@@ -10,6 +11,7 @@
 #include "reference/builtin_mesh.h"
 #include "reference/error.h"
 #include "reference/error_measures.h"
+#include "reference/io_util.h"
 
 namespace uvr::cli {
 
@@ -179,6 +181,20 @@ nlohmann::json orders_json(const std::vector<double>& h, const std::vector<Error
     return j;
 }
 
+// With a.images_dir: `image` as NAME.npy there, and with `scene` its transfer function and camera (tf.json,
+// camera.json), so that another renderer can draw the same levels (bench/peers/verify_vtk_mesh.sh).
+void keep_scene(const VerifyRequest& a, const std::string& name, const Image& image, const Scene* scene)
+{
+    if (a.images_dir.empty()) return;
+    std::error_code ec;
+    std::filesystem::create_directories(a.images_dir, ec);
+    if (ec) throw InputError(a.images_dir, "cannot create the directory: " + ec.message());
+    write_npy(a.images_dir + "/" + name + ".npy", image);
+    if (!scene) return;
+    write_file_atomically(a.images_dir + "/tf.json", transfer_function_json(scene->tf) + "\n");
+    write_file_atomically(a.images_dir + "/camera.json", camera_json(scene->camera) + "\n");
+}
+
 // What every render verification says of itself.
 void describe(nlohmann::json& j, const VerifyRequest& a, const Expectation& ex)
 {
@@ -218,9 +234,12 @@ nlohmann::json mesh_levels(const SceneOptions& scene, const VerifyRequest& a, co
         const int n = n0 << i;
         so.input.path = "builtin:grid-" + std::to_string(n);
         const Scene s = setup_scene(so);
-        if (i == 0)
+        if (i == 0) {
             exact = render_analytic(builtin_grid_field, box, s.tf, s.camera, s.width, s.height, kAnalyticTolerance);
+            keep_scene(a, "exact", exact, &s);
+        }
         const AlgoResult r = run_algorithm(s, a.algo, a.options);
+        keep_scene(a, "level" + std::to_string(i), r.image, nullptr);
         h.push_back(2.0 / double(n));
         e.push_back(measure_errors(r.image, exact));
         levels.push_back({{"h", h.back()},

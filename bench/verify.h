@@ -39,6 +39,7 @@ struct VerifyRequest {
     double from = 0.0;
     bool isolate = false;
     AlgoOptions options;
+    std::string images_dir;  // --refine mesh: where the exact image, the levels' images, tf.json and camera.json go
 };
 
 // The levels rendered and measured against the reference (step, table), the analytic field's integral (mesh, on

@@ -466,7 +466,7 @@ void bind_measures(py::module_& m)
         "verify",
         [](const PyScene& s, const std::string& algo, const std::string& refine, int levels, double from, bool isolate,
            const py::kwargs& kwargs) {
-            uvr::cli::VerifyRequest r{algo, refine, levels, from, isolate, algo_options(kwargs)};
+            uvr::cli::VerifyRequest r{algo, refine, levels, from, isolate, algo_options(kwargs), ""};
             std::string text;
             {
                 py::gil_scoped_release free_python;

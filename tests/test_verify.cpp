@@ -9,6 +9,7 @@
 #include "bench/verify.h"
 #include "box_mesh.h"
 #include "reference/analytic_field.h"
+#include "reference/error_measures.h"
 #include "reference/image.h"
 #include "reference/reference_renderer.h"
 #include "test_support.h"
@@ -150,6 +151,25 @@ TEST_CASE("uvr verify --report writes the JSON it prints, the CSV of its errors,
     CHECK(test::file_prefix(report + "/verify.png", 8) == "\x89PNG\r\n\x1a\n");
     const std::string page = test::file_contents(report + "/index.html");
     CHECK_THAT(page, Catch::Contains("verify.png") && Catch::Contains("pass"));
+}
+
+TEST_CASE("uvr verify --refine mesh --report keeps the exact image, every level's image and the scene they share")
+{
+    TempDir dir("verify-mesh-report");
+    const std::string report = dir.file("report");
+    const nlohmann::json j = run_json(
+        "verify builtin:grid-4 --size 32x32 --view 30,20 --algo reference --refine mesh "
+        "--levels 3 --report " +
+        in_quotes(report));
+    const Image exact = read_npy(report + "/runs/exact.npy");
+    for (int i = 0; i < 3; ++i) {
+        // Every number is the kept images' measure.
+        const ErrorMeasures e = measure_errors(read_npy(report + "/runs/level" + std::to_string(i) + ".npy"), exact);
+        CHECK(e.rmse == j["measures"]["rmse"]["errors"][std::size_t(i)].get<double>());
+        CHECK(e.max_abs == j["measures"]["max_abs"]["errors"][std::size_t(i)].get<double>());
+    }
+    CHECK(load_transfer_function(report + "/runs/tf.json").color.size() > 1);
+    CHECK(load_camera(report + "/runs/camera.json").fovy_deg > 0.0);
 }
 
 TEST_CASE("uvr verify fails a sequence whose error stalls, and one slower than it should be")
