@@ -138,7 +138,6 @@ std::vector<AlgoOptions> level_options(const VerifyRequest& a, const Scene& s, c
 // one (docs/verification.md).
 std::vector<double> refinement(const VerifyRequest& a, const Scene& s)
 {
-    if (a.levels < 3 || a.levels > 12) throw InputError("", "--levels takes 3 to 12 levels");
     if (a.refine == "step") {
         const double from = a.from > 0.0             ? a.from
                             : a.options.preintegrate ? 0.5 * gpu::default_raycast_step(s.volume())
@@ -195,6 +194,11 @@ void keep_scene(const VerifyRequest& a, const std::string& name, const Image& im
     write_file_atomically(a.images_dir + "/camera.json", camera_json(scene->camera) + "\n");
 }
 
+void check_levels(const VerifyRequest& a)
+{
+    if (a.levels < 3 || a.levels > 12) throw InputError("", "--levels takes 3 to 12 levels");
+}
+
 // What every render verification says of itself.
 void describe(nlohmann::json& j, const VerifyRequest& a, const Expectation& ex)
 {
@@ -218,10 +222,10 @@ nlohmann::json mesh_levels(const SceneOptions& scene, const VerifyRequest& a, co
         throw InputError(scene.input.path,
                          "--refine mesh refines builtin:grid-N (N cubes along each axis, doubled "
                          "at each level), whose field is analytic");
-    if (a.levels < 3 || a.levels > 12 || (int64_t(n0) << (a.levels - 1)) > kBuiltinGridMaxCubes)
+    if ((int64_t(n0) << (a.levels - 1)) > kBuiltinGridMaxCubes)
         throw InputError(scene.input.path, "--refine mesh: " + std::to_string(a.levels) + " levels from " +
                                                std::to_string(n0) + " cubes pass " +
-                                               std::to_string(kBuiltinGridMaxCubes) + " (3 levels at least)");
+                                               std::to_string(kBuiltinGridMaxCubes));
     // One transfer function for every level: the default over the analytic field's range, [0, 1], unless given.
     SceneOptions so = scene;
     const Bounds box{glm::dvec3(-1.0), glm::dvec3(1.0)};
@@ -274,7 +278,6 @@ Image box_average(const Image& fine)
 nlohmann::json size_levels(Scene& s, const VerifyRequest& a, const Expectation& ex)
 {
     check_algorithm_scene(s, a.algo);
-    if (a.levels < 3 || a.levels > 12) throw InputError("", "--levels takes 3 to 12 levels");
     const int w0 = s.width, h0 = s.height;
     if ((int64_t(std::max(w0, h0)) << (a.levels - 1)) > 16384)
         throw InputError("", "--refine size: " + std::to_string(w0) + "x" + std::to_string(h0) + " doubled " +
@@ -306,6 +309,7 @@ nlohmann::json size_levels(Scene& s, const VerifyRequest& a, const Expectation& 
 
 nlohmann::json verify_refinement(const SceneOptions& scene, const VerifyRequest& a)
 {
+    check_levels(a);
     if (a.algo.empty()) throw InputError("", "--algo names the renderer whose order is verified");
     if (a.refine.empty()) throw InputError("", "--refine says what is refined: step, table, mesh or size");
     const Expectation ex = expected_order(a.algo, a.refine, a.options);
@@ -325,6 +329,7 @@ nlohmann::json verify_refinement(const SceneOptions& scene, const VerifyRequest&
 
 nlohmann::json verify_refinement(const Scene& s, const VerifyRequest& a)
 {
+    check_levels(a);
     if (a.refine != "step" && a.refine != "table")
         throw InputError("",
                          "on a scene made already, verify refines step or table (mesh and size make their own "

@@ -27,17 +27,19 @@ struct Piece {
     double tolerance_per_length;
 };
 
-glm::dvec4 integrate_piece(const Piece& p, double a, double b, double sa, double sb, int depth)
+// `whole`: the piece [a, b] integrated in one (the caller computed it as one of its halves).
+glm::dvec4 integrate_piece(const Piece& p, double a, double b, double sa, double sb, const glm::dvec4& whole, int depth)
 {
     const double m = 0.5 * (a + b);
     const double sm = p.field(p.ray.origin + m * p.ray.dir);
-    const glm::dvec4 whole = p.segment.integrate(sa, sb, b - a);
-    const glm::dvec4 halves = composite_over(p.segment.integrate(sa, sm, m - a), p.segment.integrate(sm, sb, b - m));
+    const glm::dvec4 front = p.segment.integrate(sa, sm, m - a), back = p.segment.integrate(sm, sb, b - m);
+    const glm::dvec4 halves = composite_over(front, back);
     const glm::dvec4 d = glm::abs(halves - whole);
     if (depth >= kMaxHalvings ||
         (depth >= kMinHalvings && std::max(std::max(d.x, d.y), std::max(d.z, d.w)) <= p.tolerance_per_length * (b - a)))
         return halves;
-    return composite_over(integrate_piece(p, a, m, sa, sm, depth + 1), integrate_piece(p, m, b, sm, sb, depth + 1));
+    return composite_over(integrate_piece(p, a, m, sa, sm, front, depth + 1),
+                          integrate_piece(p, m, b, sm, sb, back, depth + 1));
 }
 
 }  // namespace
@@ -60,7 +62,8 @@ glm::dvec4 integrate_analytic(const AnalyticField& field, const Bounds& box, con
     }
     if (!(t1 > t0)) return glm::dvec4(0.0);
     const Piece p{field, segment, ray, tolerance / (t1 - t0)};
-    return integrate_piece(p, t0, t1, field(ray.origin + t0 * ray.dir), field(ray.origin + t1 * ray.dir), 0);
+    const double s0 = field(ray.origin + t0 * ray.dir), s1 = field(ray.origin + t1 * ray.dir);
+    return integrate_piece(p, t0, t1, s0, s1, segment.integrate(s0, s1, t1 - t0), 0);
 }
 
 Image render_analytic(const AnalyticField& field, const Bounds& box, const TransferFunction& tf, const Camera& camera,
