@@ -86,9 +86,10 @@ TEST_CASE("uvr budget's baseline equals the reference to float32 precision, for 
     TempDir tmp("budget-baseline");
     setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
     for (const char* algo : {"havs", "vicp"})
-        for (const auto& [name, scene] : {std::pair<std::string, std::string>{"torus", "builtin:torus --size 96x96"},
-                                          {"blunt-fin-front", kBluntFin + " --size 128x96"},
-                                          {"blunt-fin-above", kBluntFin + " --size 128x96 --view -40,70"}}) {
+        for (const auto& [name, scene] :
+             uvr::test::views({std::pair<std::string, std::string>{"torus", "builtin:torus --size 96x96"},
+                               {"blunt-fin-front", kBluntFin + " --size 128x96"},
+                               {"blunt-fin-above", kBluntFin + " --size 128x96 --view -40,70"}})) {
             const nlohmann::json b = budget(scene + " --algo " + algo, tmp.file(std::string(algo) + "-" + name));
             INFO(algo << ", " << name << ": baseline RMSE " << b["baseline"]["rmse"] << ", max "
                       << b["baseline"]["max_abs"]);

@@ -137,7 +137,9 @@ TEST_CASE("with exact coverage and every other switch exact, HAVS and VICP equal
         {"torus, close-up (-127.477, 45.099)", torus, -127.477, 45.099, 0.6},
         {"hexa.vtk, (-172.337, -52.342)", hexa, -172.337, -52.342, 1.0},
     };
-    for (const Case& c : cases) {
+    // Under the sanitizers the first case: the others take its code paths with other numbers (test::views).
+    for (std::size_t i = 0; i < (test::kSanitized ? 1 : std::size(cases)); ++i) {
+        const Case& c = cases[i];
         DYNAMIC_SECTION(c.name)
         {
             const test::Scene s = c.scene();

@@ -37,7 +37,7 @@ TEST_CASE("HAVS with exact segments, exact gaps, no early termination and enough
     SECTION("the built-in torus, three views")
     {
         const Scene s = make_scene(load_builtin("builtin:torus-small"), 0);
-        for (const auto& [az, el] : {std::pair{0.0, 0.0}, {35.0, 40.0}, {-70.0, 15.0}}) {
+        for (const auto& [az, el] : test::views({std::pair{0.0, 0.0}, {35.0, 40.0}, {-70.0, 15.0}})) {
             const Errors e = converge(s, default_camera(mesh_bounds(s.mesh), 1.0, az, el), 160);
             INFO("view " << az << ", " << el << ": RMSE " << e.rmse << ", max " << e.max_abs << ", pixels over "
                          << kConvergenceMax << ": " << e.over);
@@ -48,7 +48,7 @@ TEST_CASE("HAVS with exact segments, exact gaps, no early termination and enough
     SECTION("Blunt Fin, two views")
     {
         const Scene s = plot3d("vtk-data/bluntfinxyz.bin", "vtk-data/bluntfinq.bin", "");
-        for (const auto& [az, el] : {std::pair{0.0, 0.0}, {-40.0, 70.0}}) {
+        for (const auto& [az, el] : test::views({std::pair{0.0, 0.0}, {-40.0, 70.0}})) {
             const Errors e = converge(s, default_camera(mesh_bounds(s.mesh), 1.0, az, el), 256);
             INFO("view " << az << ", " << el << ": RMSE " << e.rmse << ", max " << e.max_abs << ", pixels over "
                          << kConvergenceMax << ": " << e.over);

@@ -42,7 +42,7 @@ void require_identical(const Scene& s, const Camera& cam, int width, int height,
                        InterpolationMode interpolation = InterpolationMode::gpu,
                        KBufferAccess access = KBufferAccess::automatic)
 {
-    for (int k : ks) {
+    for (int k : test::configurations(ks)) {
         HavsOptions o;
         o.k = k;
         o.interpolation = interpolation;
@@ -77,7 +77,7 @@ TEST_CASE("the GL HAVS frame equals the emulated frame bit for bit")
     SECTION("the built-in torus")
     {
         const Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
-        for (const auto& [az, el] : {std::pair{0.0, 0.0}, {35.0, 40.0}})
+        for (const auto& [az, el] : test::views({std::pair{0.0, 0.0}, {35.0, 40.0}}))
             require_identical(s, default_camera(mesh_bounds(s.mesh), 1.0, az, el), 160, 120, {1, 2, 6, kmax});
     }
     SECTION("the built-in torus at full resolution")
@@ -88,13 +88,13 @@ TEST_CASE("the GL HAVS frame equals the emulated frame bit for bit")
     SECTION("Blunt Fin")
     {
         const Scene s = test::blunt_fin();
-        for (const auto& [az, el] : {std::pair{0.0, 0.0}, {-40.0, 70.0}})
+        for (const auto& [az, el] : test::views({std::pair{0.0, 0.0}, {-40.0, 70.0}}))
             require_identical(s, default_camera(mesh_bounds(s.mesh), 1.0, az, el), 256, 192, {1, 2, 6, kmax});
     }
     SECTION("the Oxygen Post")
     {
         const Scene s = test::oxygen_post();
-        for (const auto& [az, el] : {std::pair{0.0, 0.0}, {60.0, -20.0}})
+        for (const auto& [az, el] : test::views({std::pair{0.0, 0.0}, {60.0, -20.0}}))
             require_identical(s, default_camera(mesh_bounds(s.mesh), 1.0, az, el), 192, 256, {1, 2, 6, kmax});
     }
     SECTION("the faces in many draws (as a mesh beyond the storage block size is drawn)")

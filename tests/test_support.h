@@ -5,21 +5,19 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <string>
+#include <vector>
 
 #include <sys/wait.h>
 #include <unistd.h>
 
 namespace uvr::test {
 
-#if defined(__SANITIZE_ADDRESS__)
+// The build with the sanitizers (scripts/test-sanitize.sh) defines UVR_SANITIZED_BUILD for the test programs, whose
+// own code it compiles without instrumentation (tests/CMakeLists.txt).
+#ifdef UVR_SANITIZED_BUILD
 inline constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-inline constexpr bool kSanitized = true;
-#else
-inline constexpr bool kSanitized = false;
-#endif
 #else
 inline constexpr bool kSanitized = false;
 #endif
@@ -32,6 +30,25 @@ inline constexpr std::size_t kSanitizedCaseShare = 8;
 constexpr std::size_t random_cases(std::size_t n)
 {
     return kSanitized ? n / kSanitizedCaseShare : n;
+}
+
+// The values of a parameter a loop takes through one code path (k, a table's size): all of them, or under the
+// sanitizers the first and the last, which take the path at both ends of its range. The normal build checks every
+// value's result (docs/robustness.md).
+template <class T>
+std::vector<T> configurations(std::initializer_list<T> all)
+{
+    if (!kSanitized || all.size() <= 2) return all;
+    return {*all.begin(), *(all.end() - 1)};
+}
+
+// The views (or scenes) a loop renders through one code path: all of them, or under the sanitizers the first, which
+// takes the path that the others take with other numbers.
+template <class T>
+std::vector<T> views(std::initializer_list<T> all)
+{
+    if (!kSanitized || all.size() <= 1) return all;
+    return {*all.begin()};
 }
 
 inline std::string data_path(const std::string& rel)

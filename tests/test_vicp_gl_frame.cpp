@@ -78,7 +78,7 @@ TEST_CASE("the GL VICP frame equals the emulated frame bit for bit")
     {
         const Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
         for (CellOrder order : {CellOrder::mpvonc, CellOrder::centroid})
-            for (const auto& [az, el] : {std::pair{0.0, 0.0}, {35.0, 40.0}, {-70.0, 15.0}})
+            for (const auto& [az, el] : test::views({std::pair{0.0, 0.0}, {35.0, 40.0}, {-70.0, 15.0}}))
                 require_identical(s, default_camera(mesh_bounds(s.mesh), 1.0, az, el), 160, 120, options(order));
     }
     SECTION("an orthographic view of the torus")
@@ -93,7 +93,7 @@ TEST_CASE("the GL VICP frame equals the emulated frame bit for bit")
     {
         const Scene s = test::blunt_fin();
         for (CellOrder order : {CellOrder::mpvonc, CellOrder::centroid})
-            for (const auto& [az, el] : {std::pair{0.0, 0.0}, {-40.0, 70.0}})
+            for (const auto& [az, el] : test::views({std::pair{0.0, 0.0}, {-40.0, 70.0}}))
                 require_identical(s, default_camera(mesh_bounds(s.mesh), 1.0, az, el), 256, 192, options(order));
     }
     SECTION("the Oxygen Post, with the opacity kill at the published 0.99")
