@@ -131,6 +131,14 @@ void add_backend_rows(std::vector<AlgoOption>& t)
                       // Which backends an algorithm has is its registry entry's to say (bench/algorithms.cpp).
                       [](AlgoOptions& a, const std::string& v) { a.backend = v; }));
     t.push_back(choice("gl", "With --backend gl", kGlPlatforms, &AlgoOptions::gl));
+    t.push_back(value("gl-device",
+                      "With --gl egl: the device, by its index in EGL's device list, or auto (the first hardware "
+                      "device that gives a context, else Mesa's software device)",
+                      "auto", [](AlgoOptions& a, const std::string& v) {
+                          a.gl_device = v == "auto" ? kAnyEglDevice
+                                                    : int(parse_whole("gl-device", v, 0, kMaxEglDevices - 1,
+                                                                      "auto or a device index from 0"));
+                      }));
 }
 
 // The mesh renderers' choices (HAVS, VICP): the k-buffer, ties, segments, gaps, cell order, coverage,

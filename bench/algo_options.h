@@ -18,6 +18,7 @@ namespace uvr::cli {
 struct AlgoOptions {
     std::string backend = "emu";       // emu | gl | arb (the algorithm's registry entry says which it has)
     std::string gl = "osmesa";         // --backend gl: osmesa | egl
+    int gl_device = -1;                // --gl egl: an index into EGL's device list; -1 (gpu::kAnyEglDevice): any
     bool require_diagnostics = false;  // render --diagnostics: refuse a configuration that cannot produce them
     bool diagnostics = true;           // per-pixel diagnostics where the backend can give them (bench times without)
     int k = 6;                         // or gpu::kEveryFragment (--k all)

@@ -60,6 +60,12 @@ TableOptions table_options(const AlgoOptions& a, double default_threshold)
     return o;
 }
 
+// The GL context a run with --backend gl renders in (--gl, --gl-device).
+std::unique_ptr<gpu::GlContext> gl_context(const AlgoOptions& a)
+{
+    return std::make_unique<gpu::GlContext>(gpu::parse_gl_platform(a.gl), gpu::GlProfile::core, a.gl_device);
+}
+
 gpu::TriangleSubmission submission(const AlgoOptions& a)
 {
     return parse_choice("--send", gpu::kTriangleSubmissions, a.send);
@@ -236,7 +242,7 @@ public:
             diagnostics_ = false;
             return;
         }
-        ctx_ = std::make_unique<gpu::GlContext>(gpu::parse_gl_platform(a.gl));
+        ctx_ = gl_context(a);
         const int kmax_diag = gpu::GlHavsRenderer::max_k(ctx_->info(), true);
         if (a.require_diagnostics && a.k > kmax_diag)
             throw InputError("", "--diagnostics with --backend gl needs a free draw buffer: k at most " +
@@ -315,7 +321,7 @@ public:
             emu_ = std::make_unique<gpu::VicpRenderer>(s.mesh(), *s.topology, s.field, s.tf, o);
             return;
         }
-        ctx_ = std::make_unique<gpu::GlContext>(gpu::parse_gl_platform(a.gl));
+        ctx_ = gl_context(a);
         gl_ = std::make_unique<gpu::GlVicpRenderer>(*ctx_, s.mesh(), *s.topology, s.field, s.tf, o);
         gl_->set_submission(submission(a));
     }
@@ -389,7 +395,7 @@ public:
             emu_ = std::make_unique<gpu::RaycastRenderer>(s.volume(), s.tf, o);
             return;
         }
-        ctx_ = std::make_unique<gpu::GlContext>(gpu::parse_gl_platform(a.gl));
+        ctx_ = gl_context(a);
         gl_ = std::make_unique<gpu::GlRaycastRenderer>(*ctx_, s.volume(), s.tf, o);
     }
 

@@ -57,39 +57,6 @@ double peak_rss_mib()
     return double(peak_memory_bytes()) / (1024.0 * 1024.0);
 }
 
-// Times one configuration of one algorithm: builds its renderer (build_ms), renders warmup + repeat frames, and keeps
-// each timed frame's wall time and stage times. The row holds the last frame's statistics, the medians of its stages
-// ("stages") and the algorithm's rates.
-nlohmann::json time_frames(const Scene& s, const BenchArgs& a, const Algorithm& algo, const AlgoOptions& o)
-{
-    const auto t0 = Clock::now();
-    const std::unique_ptr<Renderer> renderer = algo.make(s, o);
-    const double build_ms = ms_since(t0);
-    std::vector<double> frame_ms;
-    std::map<std::string, std::vector<double>> stage_ms;
-    nlohmann::json last;
-    for (int r = 0; r < a.warmup + a.repeat; ++r) {
-        const auto f0 = Clock::now();
-        AlgoResult f = renderer->render(s.camera, s.width, s.height);
-        const double ms = ms_since(f0);
-        if (r < a.warmup) continue;
-        frame_ms.push_back(ms);
-        for (const auto& [name, v] : f.stats["stages_ms"].items()) stage_ms[name].push_back(v.get<double>());
-        last = std::move(f.stats);
-    }
-    nlohmann::json row = last;
-    row.erase("stages_ms");
-    row["algo"] = algo.name;
-    row["backend"] = backend_of(algo, o);
-    row["frame_ms"] = median(frame_ms);
-    row["frame_ms_all"] = frame_ms;
-    row["build_ms"] = build_ms;
-    row["stages"] = nlohmann::json::object();
-    for (const auto& [name, v] : stage_ms) row["stages"][name] = median(v);
-    algo.bench_rates(row, s);
-    return row;
-}
-
 // The start of bench's JSON: the scene, its size, the machine, and the results to come.
 nlohmann::json bench_header(const BenchArgs& a, const Scene& s, double load_ms, std::size_t elements,
                             const char* element)
@@ -139,7 +106,7 @@ void time_algorithms(const Scene& s, const BenchArgs& a, const std::vector<std::
                 o.send = a.algo.send;
             }
             for (const AlgoOptions& v : algo.bench_variants(o, orders))
-                out["results"].push_back(time_frames(s, a, algo, v));
+                out["results"].push_back(time_frames(s, algo, v, a.warmup, a.repeat));
         }
     }
 }
@@ -191,6 +158,38 @@ void run_bench(const BenchArgs& a)
 }
 
 }  // namespace
+
+nlohmann::json time_frames(const Scene& s, const Algorithm& algo, const AlgoOptions& o, int warmup, int repeat,
+                           Image* last_image)
+{
+    const auto t0 = Clock::now();
+    const std::unique_ptr<Renderer> renderer = algo.make(s, o);
+    const double build_ms = ms_since(t0);
+    std::vector<double> frame_ms;
+    std::map<std::string, std::vector<double>> stage_ms;
+    nlohmann::json last;
+    for (int r = 0; r < warmup + repeat; ++r) {
+        const auto f0 = Clock::now();
+        AlgoResult f = renderer->render(s.camera, s.width, s.height);
+        const double ms = ms_since(f0);
+        if (r < warmup) continue;
+        frame_ms.push_back(ms);
+        for (const auto& [name, v] : f.stats["stages_ms"].items()) stage_ms[name].push_back(v.get<double>());
+        last = std::move(f.stats);
+        if (last_image) *last_image = std::move(f.image);
+    }
+    nlohmann::json row = last;
+    row.erase("stages_ms");
+    row["algo"] = algo.name;
+    row["backend"] = backend_of(algo, o);
+    row["frame_ms"] = median(frame_ms);
+    row["frame_ms_all"] = frame_ms;
+    row["build_ms"] = build_ms;
+    row["stages"] = nlohmann::json::object();
+    for (const auto& [name, v] : stage_ms) row["stages"][name] = median(v);
+    algo.bench_rates(row, s);
+    return row;
+}
 
 void register_bench(CLI::App& app)
 {

@@ -77,6 +77,9 @@ void register_render(CLI::App& app)
         a->algo_options.require_diagnostics = !a->diagnostics.empty();
         const Scene s = setup_scene(a->scene);
         const AlgoResult r = run_algorithm(s, a->algo, a->algo_options);
+        // Which GL device rendered (a hardware one, or Mesa's llvmpipe), also without --json.
+        if (r.stats.contains("gl"))
+            std::fprintf(stderr, "uvr render: GL: %s\n", r.stats["gl"].get<std::string>().c_str());
         write_image(a->out, r.image);
         if (!a->diagnostics.empty() && !r.fragments.empty()) {
             std::error_code ec;

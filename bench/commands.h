@@ -23,6 +23,7 @@ void register_sweep(CLI::App& app);
 void register_budget(CLI::App& app);
 void register_partition(CLI::App& app);
 void register_verify(CLI::App& app);
+void register_gpu_check(CLI::App& app);
 
 // compare's work, which demo shares: the reference and `algos` on scene `s` (and `images`, made elsewhere, each
 // under its label) measured against the reference, written to `dir` (images, error maps, metrics.json, index.html).
@@ -33,5 +34,12 @@ struct LabelledImage {
 nlohmann::json run_compare(const Scene& s, const std::vector<std::string>& algos, const AlgoOptions& o,
                            const std::string& dir, const std::string& mesh_name,
                            const std::vector<LabelledImage>& images = {});
+
+// uvr bench's timing of one configuration, which the GPU check shares: builds the renderer (build_ms), renders
+// `warmup` + `repeat` frames, and keeps each timed frame's wall time and stage times. The row holds the last frame's
+// statistics, the median frame ("frame_ms") and stages ("stages"), and the algorithm's rates; `last_image`, where
+// given, receives the last frame's image.
+nlohmann::json time_frames(const Scene& s, const Algorithm& algo, const AlgoOptions& o, int warmup, int repeat,
+                           Image* last_image = nullptr);
 
 }  // namespace uvr::cli

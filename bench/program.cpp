@@ -40,6 +40,7 @@ int run_program(int argc, char** argv)
     register_budget(app);
     register_partition(app);
     register_verify(app);
+    register_gpu_check(app);
     register_demo(app);
     // Under mpirun every rank runs the program; a failure that not every rank knows of ends them all (failed()).
     const mpi::Runtime runtime(argc, argv);

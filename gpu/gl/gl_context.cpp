@@ -5,6 +5,9 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <vector>
+
+#include <dlfcn.h>
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -19,6 +22,49 @@
 namespace uvr::gpu {
 
 namespace {
+
+// Mesa's OSMesa is loaded when the first OSMesa context is made rather than linked: a process that renders through
+// EGL, on a GPU, or not at all maps neither llvmpipe nor its LLVM (docs/gl-backend.md). The name's major version is
+// OSMesa's ABI in Debian 12's libosmesa6.
+constexpr const char* kOsmesaLibrary = "libOSMesa.so.8";
+
+struct OsmesaApi {
+    decltype(&OSMesaCreateContextAttribs) create = nullptr;
+    decltype(&OSMesaMakeCurrent) make_current = nullptr;
+    decltype(&OSMesaGetProcAddress) get_proc = nullptr;
+    decltype(&OSMesaDestroyContext) destroy = nullptr;
+    std::string error;  // why the library or an entry point could not be loaded
+};
+
+template <class F>
+void load_symbol(void* lib, const char* name, F& f, std::string& error)
+{
+    f = reinterpret_cast<F>(dlsym(lib, name));
+    if (!f && error.empty()) error = std::string("no ") + name + " in it";
+}
+
+// Loaded once per process and never unloaded (Mesa keeps state until exit); InputError where it cannot be.
+const OsmesaApi& osmesa_api()
+{
+    static const OsmesaApi api = [] {
+        OsmesaApi a;
+        void* lib = dlopen(kOsmesaLibrary, RTLD_NOW | RTLD_LOCAL);
+        if (!lib) {
+            const char* e = dlerror();
+            a.error = e ? e : "dlopen failed";
+            return a;
+        }
+        load_symbol(lib, "OSMesaCreateContextAttribs", a.create, a.error);
+        load_symbol(lib, "OSMesaMakeCurrent", a.make_current, a.error);
+        load_symbol(lib, "OSMesaGetProcAddress", a.get_proc, a.error);
+        load_symbol(lib, "OSMesaDestroyContext", a.destroy, a.error);
+        return a;
+    }();
+    if (!api.error.empty())
+        throw InputError("", std::string("OSMesa: cannot load ") + kOsmesaLibrary + " (" + api.error +
+                                 "); install Mesa's libosmesa6, or render through EGL (--gl egl)");
+    return api;
+}
 
 std::string hex(unsigned v)
 {
@@ -72,7 +118,7 @@ struct GlContext::Impl {
 
     void* proc(const char* name) const
     {
-        if (platform == GlPlatform::osmesa) return reinterpret_cast<void*>(OSMesaGetProcAddress(name));
+        if (platform == GlPlatform::osmesa) return reinterpret_cast<void*>(osmesa_api().get_proc(name));
         return reinterpret_cast<void*>(eglGetProcAddress(name));
     }
 
@@ -80,7 +126,7 @@ struct GlContext::Impl {
     {
         if (platform == GlPlatform::osmesa) {
             // A 4 x 4 RGBA8 buffer: OSMesa needs one to make a context current; the stages never draw into it.
-            if (!OSMesaMakeCurrent(osmesa, osmesa_buffer.data(), GL_UNSIGNED_BYTE, 4, 4))
+            if (!osmesa_api().make_current(osmesa, osmesa_buffer.data(), GL_UNSIGNED_BYTE, 4, 4))
                 throw InputError("", "OSMesa: OSMesaMakeCurrent failed");
         } else if (!eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, egl_context)) {
             throw InputError("", "EGL: eglMakeCurrent without a surface failed (error " + hex(eglGetError()) + ")");
@@ -101,7 +147,7 @@ struct GlContext::Impl {
         const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0, OSMESA_STENCIL_BITS, 0,
                                OSMESA_ACCUM_BITS, 0, OSMESA_PROFILE, core ? OSMESA_CORE_PROFILE : OSMESA_COMPAT_PROFILE,
                                OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
-        osmesa = OSMesaCreateContextAttribs(attribs, nullptr);
+        osmesa = osmesa_api().create(attribs, nullptr);
         const std::string name = core ? "core" : "compatibility";
         if (!osmesa)
             throw InputError("", "OSMesa: cannot create an OpenGL 4.5 " + name +
@@ -161,37 +207,72 @@ struct GlContext::Impl {
         return true;
     }
 
-    void create_egl(std::string& detail)
+    // One EGL device as the device platform describes it: its index, extensions and whether it is hardware (a DRM
+    // node that is not Mesa's software device).
+    struct EglDevice {
+        EGLDeviceEXT handle = nullptr;
+        std::string name;
+        bool hardware = false;
+    };
+
+    static std::vector<EglDevice> egl_devices(const char* client)
     {
-        const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
-        std::string tried;
-        // The device platform first, devices with a DRM node (real GPUs) before software ones.
         auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
         auto device_string =
             reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
+        std::vector<EglDevice> out;
+        if (!has_word(client, "EGL_EXT_platform_device") || !query_devices || !device_string) return out;
+        EGLDeviceEXT handles[kMaxEglDevices];
+        EGLint n = 0;
+        if (!query_devices(kMaxEglDevices, handles, &n)) return out;
+        for (EGLint i = 0; i < n; ++i) {
+            const char* dexts = device_string(handles[i], EGL_EXTENSIONS);
+            const bool hardware = has_word(dexts, "EGL_EXT_device_drm") && !has_word(dexts, "EGL_MESA_device_software");
+            out.push_back({handles[i], "device " + std::to_string(i) + " (" + (dexts ? dexts : "") + ")", hardware});
+        }
+        return out;
+    }
+
+    static std::string device_list(const std::vector<EglDevice>& devices)
+    {
+        if (devices.empty()) return "EGL lists no device";
+        std::string list = "EGL's devices: ";
+        for (std::size_t i = 0; i < devices.size(); ++i)
+            list += (i ? "; " : "") + devices[i].name + (devices[i].hardware ? ", hardware" : ", software");
+        return list;
+    }
+
+    // `device` < 0: hardware devices first, then software ones, then the surfaceless platform. Otherwise only that
+    // device of the device platform.
+    void create_egl(std::string& detail, bool& hardware, int device)
+    {
+        const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
         auto platform_display =
             reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-        if (has_word(client, "EGL_EXT_platform_device") && query_devices && device_string && platform_display) {
-            EGLDeviceEXT devices[16];
-            EGLint n = 0;
-            if (query_devices(16, devices, &n) && n > 0) {
-                for (int pass = 0; pass < 2; ++pass)
-                    for (EGLint i = 0; i < n; ++i) {
-                        const char* dexts = device_string(devices[i], EGL_EXTENSIONS);
-                        const bool hardware = has_word(dexts, "EGL_EXT_device_drm") &&
-                                              !has_word(dexts, "EGL_MESA_device_software");
-                        if (hardware != (pass == 0)) continue;
-                        std::string why;
-                        EGLDisplay dpy = platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
-                        const std::string name = "device " + std::to_string(i) + " (" + (dexts ? dexts : "") + ")";
-                        if (try_egl_display(dpy, why)) {
-                            detail = "egl, " + why + ", " + name;
-                            return;
-                        }
-                        tried += "; " + name + ": " + why;
-                    }
-            }
+        const std::vector<EglDevice> devices = platform_display ? egl_devices(client) : std::vector<EglDevice>{};
+        const auto try_device = [&](const EglDevice& d, std::string& why) {
+            if (!try_egl_display(platform_display(EGL_PLATFORM_DEVICE_EXT, d.handle, nullptr), why)) return false;
+            detail = "egl, " + why + ", " + d.name + (d.hardware ? ", hardware" : ", software");
+            hardware = d.hardware;
+            return true;
+        };
+        if (device >= 0) {
+            if (std::size_t(device) >= devices.size())
+                throw InputError("", "--gl-device " + std::to_string(device) + ": no such EGL device (" +
+                                         device_list(devices) + ")");
+            std::string why;
+            if (try_device(devices[std::size_t(device)], why)) return;
+            throw InputError("",
+                             "--gl-device " + std::to_string(device) + ": " + why + " (" + device_list(devices) + ")");
         }
+        std::string tried;
+        for (const bool pass_hardware : {true, false})
+            for (const EglDevice& d : devices) {
+                if (d.hardware != pass_hardware) continue;
+                std::string why;
+                if (try_device(d, why)) return;
+                tried += "; " + d.name + ": " + why;
+            }
         if (has_word(client, "EGL_MESA_platform_surfaceless") && platform_display) {
             std::string why;
             EGLDisplay dpy = platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
@@ -207,7 +288,7 @@ struct GlContext::Impl {
 
     ~Impl()
     {
-        if (osmesa) OSMesaDestroyContext(osmesa);
+        if (osmesa) osmesa_api().destroy(osmesa);
         if (egl_context != EGL_NO_CONTEXT) {
             eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
             eglDestroyContext(display, egl_context);
@@ -216,10 +297,12 @@ struct GlContext::Impl {
     }
 };
 
-GlContext::GlContext(GlPlatform platform, GlProfile profile) : impl_(std::make_unique<Impl>())
+GlContext::GlContext(GlPlatform platform, GlProfile profile, int egl_device) : impl_(std::make_unique<Impl>())
 {
     impl_->platform = platform;
     info_.platform = platform;
+    if (platform == GlPlatform::osmesa && egl_device >= 0)
+        throw InputError("", "--gl-device chooses an EGL device: it needs --gl egl");
     if (platform == GlPlatform::osmesa)
         impl_->create_osmesa(info_.detail, profile);
     else if (profile == GlProfile::compatibility)
@@ -227,7 +310,7 @@ GlContext::GlContext(GlPlatform platform, GlProfile profile) : impl_(std::make_u
                          "EGL: uvr asks for a compatibility-profile context (the paper's ARB programs, --backend "
                          "arb) only through OSMesa");
     else
-        impl_->create_egl(info_.detail);
+        impl_->create_egl(info_.detail, info_.hardware, egl_device);
 
     const std::string where = gl_platform_name(platform);
 #define UVR_GL_LOAD(type, name)                                                                                     \

@@ -120,6 +120,7 @@ struct GlFunctions {
 struct GlInfo {
     GlPlatform platform = GlPlatform::osmesa;
     std::string detail;    // how it was made: "OSMesa 8.0 core 4.5", "EGL 1.5 device 0 (EGL_MESA_device_software)"
+    bool hardware = false;  // an EGL device with a DRM node that is not Mesa's software device (a GPU)
     // GL_VENDOR, GL_RENDERER, GL_VERSION, GL_SHADING_LANGUAGE_VERSION
     std::string vendor, renderer, version, glsl_version;
     std::vector<std::string> extensions;
@@ -132,12 +133,19 @@ struct GlInfo {
 // the fixed-function matrix stacks, for the published programs (--backend arb, gpu/havs/gl_havs_arb.h).
 enum class GlProfile { core, compatibility };
 
+// GlContext's choice of EGL device: any (hardware first), or an index into EGL's device list, of which the first
+// kMaxEglDevices are looked at (more GPUs than one machine holds).
+inline constexpr int kAnyEglDevice = -1;
+inline constexpr int kMaxEglDevices = 16;
+
 class GlContext {
 public:
-    // Creates the context and makes it current on the calling thread. Throws InputError when the platform cannot
-    // give a 4.5 context of the profile (no library, no display or device, too old a driver) or an entry point is
-    // missing.
-    explicit GlContext(GlPlatform platform, GlProfile profile = GlProfile::core);
+    // Creates the context and makes it current on the calling thread. With EGL, `egl_device` picks a device of EGL's
+    // device platform by its index; -1 takes the first hardware device that gives a context, then a software one
+    // (Mesa's llvmpipe), and GlInfo::detail says which. Throws InputError when the platform cannot give a 4.5 context
+    // of the profile (no library, no display or device, too old a driver), when `egl_device` names no device (the
+    // message lists them), or when an entry point is missing.
+    explicit GlContext(GlPlatform platform, GlProfile profile = GlProfile::core, int egl_device = kAnyEglDevice);
     ~GlContext();
     GlContext(const GlContext&) = delete;
     GlContext& operator=(const GlContext&) = delete;

@@ -1,0 +1,233 @@
+// `uvr gpu-check MESH [input options] --out OUT`: the GPU check of docs/gpu.md. Picks the GL device, says what it is
+// and which extensions HAVS's k-buffer path uses, then renders HAVS (k = 6 and the largest k), VICP and the ray caster
+// at each size, each measured against the CPU reference with uvr compare's measures and timed as uvr bench times,
+// and writes OUT/gpu-check.json and OUT/index.html.
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "bench/commands.h"
+#include "bench/options.h"
+#include "bench/report.h"
+#include "gpu/gl/gl_context.h"
+#include "gpu/havs/gl_havs.h"
+#include "reference/builtin_mesh.h"
+#include "reference/error.h"
+#include "reference/error_measures.h"
+#include "reference/timing.h"
+
+namespace uvr::cli {
+
+namespace {
+
+struct GpuCheckOptions {
+    InputOptions mesh;                        // the check's real mesh (Blunt Fin in the bundle)
+    std::string gpu = "auto";                 // auto | llvmpipe
+    AlgoOptions table;                        // the options table's row --gl-device (with --gpu auto)
+    std::string sizes = "512,1024";           // square images, each size a round of the check
+    int grid = 120;                           // builtin:grid-N beside MESH (120: 10,368,000 tetrahedra); 0: none
+    std::string volume = kBuiltinVolumePath;  // the ray caster's regular grid
+    int warmup = 1, repeat = 3;               // frames per configuration, as uvr bench
+    std::string out;
+    bool json = false;
+};
+
+// The device the check renders on and why: EGL's hardware device where there is one (or the one --gl-device names),
+// else llvmpipe through OSMesa (the bundle carries Mesa's OSMesa, not its EGL driver: docs/gpu.md).
+struct CheckDevice {
+    std::string platform;  // "egl" | "osmesa"
+    int egl_device = gpu::kAnyEglDevice;
+    gpu::GlInfo info;
+    std::string choice;  // a sentence for the user
+};
+
+CheckDevice choose_device(const GpuCheckOptions& o)
+{
+    const auto osmesa = [](const std::string& why) {
+        const gpu::GlContext ctx(gpu::GlPlatform::osmesa);
+        return CheckDevice{"osmesa", gpu::kAnyEglDevice, ctx.info(), why + ": llvmpipe through OSMesa"};
+    };
+    if (o.gpu == "llvmpipe") return osmesa("--gpu llvmpipe");
+    if (o.gpu != "auto") throw InputError("", "--gpu takes auto or llvmpipe, not '" + o.gpu + "'");
+    const int device = o.table.gl_device;
+    std::string why;
+    try {
+        const gpu::GlContext ctx(gpu::GlPlatform::egl, gpu::GlProfile::core, device);
+        if (ctx.info().hardware || device != gpu::kAnyEglDevice)
+            return CheckDevice{"egl", device, ctx.info(), "EGL: " + ctx.info().detail};
+        why = "no hardware GPU through EGL (it offers " + ctx.info().detail + ")";
+    } catch (const InputError& e) {
+        if (device != gpu::kAnyEglDevice) throw;  // the device asked for: its error lists the devices
+        why = std::string("no hardware GPU through EGL (") + e.what() + ")";
+    }
+    return osmesa(why);
+}
+
+constexpr const char* kNoKBufferPath = "none (HAVS cannot run on this device)";
+
+// The extensions the k-buffer path looks for, which one it takes, and the largest k (without diagnostics).
+nlohmann::json kbuffer_path(const gpu::GlInfo& info)
+{
+    nlohmann::json j;
+    for (const char* e :
+         {"GL_EXT_shader_framebuffer_fetch", "GL_ARB_fragment_shader_interlock", "GL_NV_fragment_shader_interlock"})
+        j["extensions"][e] = info.has_extension(e);
+    j["path"] = info.has_extension("GL_EXT_shader_framebuffer_fetch") ? "framebuffer fetch"
+                : info.has_extension("GL_ARB_fragment_shader_interlock") ||
+                        info.has_extension("GL_NV_fragment_shader_interlock")
+                    ? "image load/store in a fragment-shader interlock"
+                    : kNoKBufferPath;
+    j["max_k"] = gpu::GlHavsRenderer::max_k(info, false);
+    return j;
+}
+
+// One configuration: timed frames, the last one measured against the reference. `cells` counts the scene's
+// tetrahedra (0 for a regular grid).
+nlohmann::json check_run(const Scene& s, const std::string& name, const std::string& algo, const AlgoOptions& o,
+                         const GpuCheckOptions& c, const Image& reference, std::size_t cells)
+{
+    Image last;
+    nlohmann::json row = time_frames(s, find_algorithm(algo), o, c.warmup, c.repeat, &last);
+    nlohmann::json j = measures_json(measure_errors(last, reference));
+    j["scene"] = name;
+    j["algo"] = algo;
+    j["label"] = find_algorithm(algo).label(o);
+    j["k"] = algo == "havs" ? nlohmann::json(o.k) : nlohmann::json();
+    j["width"] = s.width;
+    j["height"] = s.height;
+    j["frame_ms"] = row["frame_ms"];
+    j["build_ms"] = row["build_ms"];
+    j["stages_ms"] = row["stages"];
+    j["tetrahedra"] = cells;
+    j["tetrahedra_per_second"] = cells ? double(cells) / (row["frame_ms"].get<double>() / 1000.0) : 0.0;
+    j["peak_memory_mib"] = double(peak_memory_bytes()) / (1024.0 * 1024.0);
+    std::printf("%-10s %5dx%-5d %-16s rmse %.3e max %.3e  %9.2f ms/frame\n", name.c_str(), s.width, s.height,
+                j["label"].get<std::string>().c_str(), j["rmse"].get<double>(), j["max_abs"].get<double>(),
+                j["frame_ms"].get<double>());
+    std::fflush(stdout);
+    return j;
+}
+
+// Every run on one scene at one size: HAVS at k = 6 and at the largest k and VICP on a mesh, the ray caster on a grid.
+void check_scene(const SceneOptions& so, const std::string& name, const CheckDevice& d, const GpuCheckOptions& c,
+                 nlohmann::json& runs)
+{
+    const Scene s = setup_scene(so);
+    const AlgoResult ref = run_algorithm(s, "reference", AlgoOptions{});
+    AlgoOptions o;
+    o.backend = "gl";
+    o.gl = d.platform;
+    o.gl_device = d.egl_device;
+    o.diagnostics = false;  // as uvr bench times them; the image is the same
+    if (s.is_volume()) {
+        runs.push_back(check_run(s, name, "raycast", o, c, ref.image, 0));
+        return;
+    }
+    const std::size_t cells = s.mesh().tets.size();
+    if (kbuffer_path(d.info)["path"] != kNoKBufferPath) {
+        const int kmax = gpu::GlHavsRenderer::max_k(d.info, false);
+        for (const int k : {6, kmax}) {
+            if (k == 6 && k > kmax) continue;
+            o.k = k;
+            runs.push_back(check_run(s, name, "havs", o, c, ref.image, cells));
+            if (k == kmax) break;
+        }
+    }
+    runs.push_back(check_run(s, name, "vicp", o, c, ref.image, cells));
+}
+
+void write_check_page(const std::string& dir, const nlohmann::json& j)
+{
+    std::string html =
+        "<!doctype html><html><head><meta charset=\"utf-8\"><title>uvr GPU check</title>"
+        "<style>body{font-family:sans-serif}td,th{padding:2px 8px;text-align:right}</style></head><body>"
+        "<h1>uvr GPU check</h1><p>" +
+        escape_markup(j["renderer"].get<std::string>()) + "<br>" + escape_markup(j["choice"].get<std::string>()) +
+        "<br>k-buffer: " + escape_markup(j["kbuffer"]["path"].get<std::string>()) +
+        "</p><table><tr><th>scene</th><th>size</th><th>run</th><th>RMSE</th><th>largest error</th>"
+        "<th>ms per frame</th><th>tetrahedra per second</th></tr>";
+    for (const auto& r : j["runs"]) {
+        char line[512];
+        std::snprintf(line, sizeof line,
+                      "<tr><td>%s</td><td>%d&times;%d</td><td>%s</td><td>%.3e</td><td>%.3e</td><td>%.2f</td>"
+                      "<td>%.3g</td></tr>",
+                      escape_markup(r["scene"].get<std::string>()).c_str(), r["width"].get<int>(),
+                      r["height"].get<int>(), escape_markup(r["label"].get<std::string>()).c_str(),
+                      r["rmse"].get<double>(), r["max_abs"].get<double>(), r["frame_ms"].get<double>(),
+                      r["tetrahedra_per_second"].get<double>());
+        html += line;
+    }
+    html += "</table><p>Every number: <a href=\"gpu-check.json\">gpu-check.json</a></p></body></html>\n";
+    write_file_atomically(dir + "/index.html", html);
+}
+
+void run_gpu_check(const GpuCheckOptions& c)
+{
+    std::vector<std::string> sizes = split_list(c.sizes);
+    if (sizes.empty()) throw InputError("", "--sizes needs at least one size");
+    if (c.warmup < 0 || c.repeat < 1) throw InputError("", "--warmup takes 0 or more frames, --repeat 1 or more");
+    if (c.grid < 0) throw InputError("", "--grid takes 0 (none) or the N of builtin:grid-N");
+    std::error_code ec;
+    std::filesystem::create_directories(c.out, ec);
+    if (ec) throw InputError(c.out, "cannot create the directory: " + ec.message());
+    const CheckDevice d = choose_device(c);
+    nlohmann::json j;
+    j["renderer"] = d.info.summary();
+    j["vendor"] = d.info.vendor;
+    j["platform"] = d.platform;
+    j["hardware"] = d.info.hardware;
+    j["choice"] = d.choice;
+    j["kbuffer"] = kbuffer_path(d.info);
+    j["machine"] = {{"threads", std::thread::hardware_concurrency()}};
+    j["runs"] = nlohmann::json::array();
+    std::printf("GL: %s\n%s\nk-buffer: %s (largest k %d)\n", j["renderer"].get<std::string>().c_str(), d.choice.c_str(),
+                j["kbuffer"]["path"].get<std::string>().c_str(), j["kbuffer"]["max_k"].get<int>());
+    for (const std::string& n : sizes) {
+        SceneOptions so;
+        so.size = n + "x" + n;  // checked where the scene reads it
+        so.input = c.mesh;
+        check_scene(so, std::filesystem::path(c.mesh.path).stem().string(), d, c, j["runs"]);
+        if (c.grid > 0) {
+            so.input = InputOptions{};
+            so.input.path = "builtin:grid-" + std::to_string(c.grid);
+            check_scene(so, "grid-" + std::to_string(c.grid), d, c, j["runs"]);
+        }
+        so.input = InputOptions{};
+        so.input.path = c.volume;
+        check_scene(so, std::filesystem::path(c.volume).stem().string(), d, c, j["runs"]);
+    }
+    write_file_atomically(c.out + "/gpu-check.json", j.dump(1) + "\n");
+    write_check_page(c.out, j);
+    if (c.json) std::printf("%s\n", j.dump(1).c_str());
+}
+
+}  // namespace
+
+void register_gpu_check(CLI::App& app)
+{
+    auto* cmd = app.add_subcommand("gpu-check",
+                                   "The GPU check (docs/gpu.md): each GL algorithm's error against the "
+                                   "reference and its speed, on the GPU or on llvmpipe");
+    auto c = std::make_shared<GpuCheckOptions>();
+    add_input_options(*cmd, c->mesh);
+    cmd->add_option("--gpu", c->gpu, "auto (a hardware GPU through EGL, else llvmpipe) | llvmpipe")
+        ->capture_default_str();
+    add_algo_options(*cmd, c->table, true, {"gl-device"});
+    cmd->add_option("--sizes", c->sizes, "Square image sizes, comma-separated")->capture_default_str();
+    cmd->add_option("--grid", c->grid, "builtin:grid-N beside the mesh (N^3 cubes of six tetrahedra; 0: none)")
+        ->capture_default_str();
+    cmd->add_option("--volume", c->volume, "The ray caster's regular grid")->capture_default_str();
+    cmd->add_option("--warmup", c->warmup, "Frames rendered before the timed ones")->capture_default_str();
+    cmd->add_option("--repeat", c->repeat, "Timed frames per configuration (the median is kept)")
+        ->capture_default_str();
+    cmd->add_option("--out", c->out, "Directory for gpu-check.json and index.html")->required();
+    cmd->add_flag("--json", c->json, "Print gpu-check.json's object on stdout");
+    cmd->callback([c] { run_gpu_check(*c); });
+}
+
+}  // namespace uvr::cli
