@@ -1,16 +1,23 @@
 #!/usr/bin/env bash
-# scripts/gpu-bundle.sh DIR: builds DIR/uvr-gpu/, the GPU check for a machine that has a GPU driver and nothing else
-# (docs/gpu.md): the `uvr` program, the shared libraries it needs beyond glibc (GLVND's libEGL among them, which opens
-# the driver's), the shaders and Blunt Fin, each file compressed, with run.sh (scripts/gpu-bundle-run.sh) and the
-# decompressor it unpacks them with. Mesa's OSMesa, which uvr opens only for llvmpipe, is the machine's own.
-# Fails, leaving no DIR/uvr-gpu, when the bundle exceeds UVR_BUNDLE_LIMIT_MIB (default 60).
+# scripts/gpu-bundle.sh DIR [--with-mesa]: builds DIR/uvr-gpu/, the GPU check for a machine that has a GPU driver and
+# nothing else (docs/gpu.md): the `uvr` program, the shared libraries it needs beyond glibc (GLVND's libEGL among them,
+# which opens the driver's), the shaders and Blunt Fin, each file compressed, with run.sh (scripts/gpu-bundle-run.sh)
+# and the decompressor it unpacks them with. Mesa's OSMesa, which uvr opens only for llvmpipe, is the machine's own;
+# --with-mesa adds it and its libraries (LLVM), for a machine without Mesa.
+# Fails, leaving no DIR/uvr-gpu, when the bundle exceeds UVR_BUNDLE_LIMIT_MIB (default 60; 100 with --with-mesa).
 # UVR_BINARY names the `uvr` to bundle (default build/bench/uvr, built by scripts/build.sh when missing);
 # UVR_BUNDLE_LEVEL is zstd's level (default 19; a lower level is faster and makes a larger bundle).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-dir=${1:?usage: scripts/gpu-bundle.sh DIR}
+dir=${1:?usage: scripts/gpu-bundle.sh DIR [--with-mesa]}
+with_mesa=0
+case "${2:-}" in
+  "") ;;
+  --with-mesa) with_mesa=1 ;;
+  *) echo "gpu-bundle: unknown option '$2' (usage: scripts/gpu-bundle.sh DIR [--with-mesa])" >&2; exit 2 ;;
+esac
 uvr=${UVR_BINARY:-$root/build/bench/uvr}
-limit_mib=${UVR_BUNDLE_LIMIT_MIB:-60}
+limit_mib=${UVR_BUNDLE_LIMIT_MIB:-$((with_mesa ? 100 : 60))}
 level=${UVR_BUNDLE_LEVEL:-19}
 [ -x "$uvr" ] || bash "$root/scripts/build.sh"
 data=${UVR_DATA_DIR:-$root/data}
@@ -37,6 +44,12 @@ mkdir -p "$stage/tree/bin" "$stage/tree/lib" "$stage/tree/shaders" "$stage/tree/
 # Line tables are of no use on the GPU machine.
 strip --strip-debug -o "$stage/tree/bin/uvr" "$uvr"
 closure "$uvr" | while read -r name path; do cp -L "$path" "$stage/tree/lib/$name"; done
+if [ "$with_mesa" = 1 ]; then
+  osmesa=$(ldconfig -p | awk '$1 == "libOSMesa.so.8" {print $NF; exit}')
+  [ -n "$osmesa" ] || { echo "gpu-bundle: --with-mesa: no libOSMesa.so.8 here (Debian's libosmesa6)" >&2; exit 1; }
+  cp -L "$osmesa" "$stage/tree/lib/libOSMesa.so.8"
+  closure "$osmesa" | while read -r name path; do cp -L "$path" "$stage/tree/lib/$name"; done
+fi
 cp "$root"/shaders/* "$stage/tree/shaders/"
 cp "$data/vtk-data/bluntfinxyz.bin" "$data/vtk-data/bluntfinq.bin" "$stage/tree/data/"
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The GPU bundle (scripts/gpu-bundle.sh, docs/gpu.md) as the GPU machine gets it: it builds within its size, every
 # library the unpacked `uvr` needs beyond glibc resolves inside it, run.sh's llvmpipe check passes in an environment
-# holding nothing but the bundle, the check's error measures are uvr compare's, --gpu auto without a GPU falls back to
+# holding nothing but the bundle (with --with-mesa, Mesa included), the check's error measures are uvr compare's, --gpu auto without a GPU falls back to
 # llvmpipe and says so, and a bad --gl-device is refused with EGL's devices listed.
 # Usage: tests/gpu_bundle.sh REPOSITORY UVR_BINARY
 set -euo pipefail
@@ -32,12 +32,22 @@ quick=(--sizes 32 --grid 3 --warmup 0 --repeat 1)
 run bash "$bundle/run.sh" --gpu llvmpipe "${quick[@]}" --out "$tmp/check" >"$tmp/out" 2>&1 || fail "run.sh --gpu llvmpipe: $(cat "$tmp/out")"
 [ -s "$tmp/check/gpu-check.json" ] && [ -s "$tmp/check/index.html" ] || fail "no gpu-check.json or index.html"
 
-# Every library the unpacked program loads is the bundle's or glibc's.
-LD_LIBRARY_PATH=$tmp/unpacked/lib ldd "$tmp/unpacked/bin/uvr" >"$tmp/ldd"
-! grep -q "not found" "$tmp/ldd" || fail "a library is missing: $(grep 'not found' "$tmp/ldd")"
-outside=$(awk '$2 == "=>" {print $1, $3}' "$tmp/ldd" | grep -v " $tmp/unpacked/lib/" |
-  grep -Ev '^(libc|libm|libpthread|libdl|librt|libresolv|libutil|libmvec)\.so' || true)
-[ -z "$outside" ] || fail "libraries resolved outside the bundle: $outside"
+# Every library FILE loads, with LIB as the library path, is in LIB or glibc's.
+inside_only() {
+  LD_LIBRARY_PATH=$2 ldd "$1" >"$tmp/ldd"
+  ! grep -q "not found" "$tmp/ldd" || fail "a library of $1 is missing: $(grep 'not found' "$tmp/ldd")"
+  outside=$(awk '$2 == "=>" {print $1, $3}' "$tmp/ldd" | grep -v " $2/" |
+    grep -Ev '^(libc|libm|libpthread|libdl|librt|libresolv|libutil|libmvec)\.so' || true)
+  [ -z "$outside" ] || fail "libraries of $1 resolved outside the bundle: $outside"
+}
+inside_only "$tmp/unpacked/bin/uvr" "$tmp/unpacked/lib"
+! ls "$tmp/unpacked/lib" | grep -Eq "^lib(OSMesa|LLVM)" || fail "the bundle carries Mesa without --with-mesa"
+
+# --with-mesa: OSMesa and LLVM inside, and the llvmpipe run loads them from there (the library path comes first).
+UVR_BINARY=$uvr UVR_BUNDLE_LEVEL=1 bash "$repo/scripts/gpu-bundle.sh" "$tmp/m" --with-mesa >/dev/null
+run UVR_GPU_UNPACK="$tmp/unpacked-mesa" bash "$tmp/m/uvr-gpu/run.sh" --gpu llvmpipe "${quick[@]}" \
+  --out "$tmp/mesa-check" >"$tmp/out" 2>&1 || fail "--with-mesa, run.sh --gpu llvmpipe: $(cat "$tmp/out")"
+inside_only "$tmp/unpacked-mesa/lib/libOSMesa.so.8" "$tmp/unpacked-mesa/lib"
 
 # The check's measures are uvr compare's on the same scene and options.
 "$uvr" compare "$data/bluntfinxyz.bin" --q "$data/bluntfinq.bin" --algos reference,havs,vicp --backend gl \
