@@ -7,10 +7,17 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 jobs="${UVR_JOBS:-$(nproc)}"
+data="${UVR_DATA_DIR:-$PWD/data}"
+# The test programs' own code is not instrumented (the sanitizers check uvr's code, which the tests call), so this
+# build links the normal build's test objects rather than compiling them again (tests/CMakeLists.txt): build/ first,
+# configured as scripts/test.sh configures it (nothing to do after scripts/test.sh).
+cmake -S . -B build -G Ninja -DUVR_DATA_DIR="$data" >/dev/null
+bash scripts/build.sh
 # Built with clang, the second compiler of Debian 12 (install-deps.sh), which compiles instrumented code in about half
 # gcc's time (docs/robustness.md, "Sanitizers in CI").
 cmake -S . -B build-asan -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DUVR_SANITIZE=ON -DUVR_PYTHON=OFF -DUVR_DATA_DIR="${UVR_DATA_DIR:-$PWD/data}" >/dev/null
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DUVR_SANITIZE=ON -DUVR_PYTHON=OFF -DUVR_DATA_DIR="$data" \
+  -DUVR_TEST_OBJECTS_FROM="$PWD/build" >/dev/null
 cmake --build build-asan -j "$jobs"
 # Mesa (OSMesa, EGL, llvmpipe's JIT) keeps allocations of its own alive past exit (OSMesaMakeCurrent's dispatch
 # tables, glapi state) even when uvr destroys its contexts; LeakSanitizer is told to ignore leaks whose stack is in

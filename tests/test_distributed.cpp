@@ -192,7 +192,7 @@ TEST_CASE("mpirun: the data-parallel reference equals the one-process reference,
         {"post-metis", post, "metis", 4, {4}, {"--camera " + quoted(inside)}}};
     // Under the sanitizers the first two cases: they take the exchange's and the agreement's code paths as the others
     // do (the sanitizers check those paths; the other cases check the images).
-    const std::size_t count = test::kSanitized ? 2 : cases.size();
+    const std::size_t count = test::sanitized() ? 2 : cases.size();
     for (const Case& c : std::vector<Case>(cases.begin(), cases.begin() + std::ptrdiff_t(count))) {
         const std::string pvtu = partition(c.input, c.name, c.parts, c.method, dir);
         const std::string field = c.name.rfind("post", 0) == 0 ? " --field StagnationEnergy" : "";

@@ -138,7 +138,7 @@ TEST_CASE("with exact coverage and every other switch exact, HAVS and VICP equal
         {"hexa.vtk, (-172.337, -52.342)", hexa, -172.337, -52.342, 1.0},
     };
     // Under the sanitizers the first case: the others take its code paths with other numbers (test::views).
-    for (std::size_t i = 0; i < (test::kSanitized ? 1 : std::size(cases)); ++i) {
+    for (std::size_t i = 0; i < (test::sanitized() ? 1 : std::size(cases)); ++i) {
         const Case& c = cases[i];
         DYNAMIC_SECTION(c.name)
         {

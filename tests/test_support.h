@@ -14,22 +14,23 @@
 
 namespace uvr::test {
 
-// The build with the sanitizers (scripts/test-sanitize.sh) defines UVR_SANITIZED_BUILD for the test programs, whose
-// own code it compiles without instrumentation (tests/CMakeLists.txt).
-#ifdef UVR_SANITIZED_BUILD
-inline constexpr bool kSanitized = true;
-#else
-inline constexpr bool kSanitized = false;
-#endif
+// Whether this test program runs with the sanitizers (scripts/test-sanitize.sh): AddressSanitizer's runtime, linked
+// into the program, defines __asan_init. Asked at run time because the sanitized build links the test code the normal
+// build compiled, without instrumentation (tests/CMakeLists.txt).
+extern "C" __attribute__((weak)) void __asan_init();
+inline bool sanitized()
+{
+    return __asan_init != nullptr;
+}
 
 // How many random cases a test draws through one code path: `n`, or an eighth of it in the build with the sanitizers
 // (scripts/test-sanitize.sh). The sanitizers check the memory accesses and the arithmetic along each path, which the
 // first thousands of cases already take; the full counts, sized for what the tests assert about their statistics, run
 // in the normal build. A floor a test asserts on a count of such cases scales the same way (docs/robustness.md).
 inline constexpr std::size_t kSanitizedCaseShare = 8;
-constexpr std::size_t random_cases(std::size_t n)
+inline std::size_t random_cases(std::size_t n)
 {
-    return kSanitized ? n / kSanitizedCaseShare : n;
+    return sanitized() ? n / kSanitizedCaseShare : n;
 }
 
 // The values of a parameter a loop takes through one code path (k, a table's size): all of them, or under the
@@ -38,7 +39,7 @@ constexpr std::size_t random_cases(std::size_t n)
 template <class T>
 std::vector<T> configurations(std::initializer_list<T> all)
 {
-    if (!kSanitized || all.size() <= 2) return all;
+    if (!sanitized() || all.size() <= 2) return all;
     return {*all.begin(), *(all.end() - 1)};
 }
 
@@ -47,7 +48,7 @@ std::vector<T> configurations(std::initializer_list<T> all)
 template <class T>
 std::vector<T> views(std::initializer_list<T> all)
 {
-    if (!kSanitized || all.size() <= 1) return all;
+    if (!sanitized() || all.size() <= 1) return all;
     return {*all.begin()};
 }
 
@@ -127,6 +128,15 @@ struct CommandResult {
     std::string err;  // stderr
 };
 
+// The `uvr` program of the build this test program belongs to: bench/uvr beside its tests/ directory (CMake's layout
+// of one build directory). Found at run time, as the sanitized build links the normal build's test objects.
+inline std::string uvr_binary()
+{
+    static const std::string path =
+        (std::filesystem::read_symlink("/proc/self/exe").parent_path().parent_path() / "bench" / "uvr").string();
+    return path;
+}
+
 // Runs the `uvr` program with `args` (shell-quoted by the caller), capturing stdout and stderr separately.
 // `env`: variable assignments for this run only ("NAME=value ...", as a shell takes them before a command);
 // `launcher`: a command that runs the program (mpirun and its options), or "".
@@ -135,7 +145,7 @@ inline CommandResult run_uvr(const std::string& args, const std::string& env = "
     TempDir tmp("run");
     const std::string out = tmp.file("stdout"), err = tmp.file("stderr");
     const std::string cmd = env + (env.empty() ? "" : " ") + launcher + (launcher.empty() ? "" : " ") + "'" +
-                            UVR_BINARY + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
+                            uvr_binary() + "' " + args + " >'" + out + "' 2>'" + err + "' </dev/null";
     const int status = std::system(cmd.c_str());
     CommandResult r;
     r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);

@@ -17,16 +17,19 @@ namespace {
 constexpr int32_t kIntegerIndefinite = std::numeric_limits<int32_t>::min();  // what x86 float->int gives on overflow
 
 // Round to nearest, ties to even: exact, and independent of the floating-point environment (the JIT code runs in
-// the default MXCSR mode, which is nearest-even).
+// the default MXCSR mode, which is nearest-even). For |x| < 2^31 only (the callers check): in integers, with no
+// library call, as it is on every 8-bit texture lookup.
 float round_half_even(float x)
 {
-    const float f = std::floor(x);
-    // x - floor(x) is a multiple of ulp(x) below 1, hence exact, except for x in (-0.5, 0), where 1 + x may round
-    // (up to 0.5 at worst); the answer there is 0 either way.
-    const float frac = x - f;
-    if (frac > 0.5f) return f + 1.0f;
-    if (frac < 0.5f) return f;
-    return std::fmod(f, 2.0f) == 0.0f ? f : f + 1.0f;
+    // floor(x): truncation, one down for a negative non-integer. Exact: below 2^23 the floor has at most 24 bits, and
+    // from 2^23 on every float is an integer.
+    int64_t f = static_cast<int64_t>(x);
+    if (static_cast<float>(f) > x) f -= 1;
+    // x - floor(x) is a multiple of ulp(x) below 1, hence exact, except for x in (-0.5, 0), where it may round (up to
+    // 0.5 at worst); the answer there is 0 either way.
+    const float frac = x - static_cast<float>(f);
+    if (frac > 0.5f || (frac == 0.5f && (f & 1) != 0)) f += 1;
+    return static_cast<float>(f);
 }
 
 // The channel value llvmpipe's SoA fetch produces (lp_build_fetch_rgba_soa -> lp_build_extract_soa_chan): floats
@@ -51,6 +54,24 @@ uint8_t fetch_byte(const TextureView& tex, std::size_t texel, int c)
     return static_cast<const uint8_t*>(tex.texels)[texel * std::size_t(tex.channels) + std::size_t(c)];
 }
 
+// The texels v_yx of slice z0 and (3D) z1 of a linear filter's taps (LinearTaps or LinearTaps8), computed once for
+// every channel: texel[s][2 * y + x].
+struct SliceTexels {
+    template <class Taps>
+    SliceTexels(const TextureView& tex, const Taps& tx, const Taps& ty, const Taps& tz, int dims)
+    {
+        for (int s = 0; s < (dims == 3 ? 2 : 1); ++s) {
+            const int z = s == 0 ? tz.i0 : tz.i1;
+            at[s][0] = texel_index(tex, tx.i0, ty.i0, z);
+            at[s][1] = texel_index(tex, tx.i1, ty.i0, z);
+            at[s][2] = texel_index(tex, tx.i0, ty.i1, z);
+            at[s][3] = texel_index(tex, tx.i1, ty.i1, z);
+        }
+    }
+    const std::size_t* operator[](int s) const { return at[s]; }
+    std::size_t at[2][4];
+};
+
 glm::vec4 sample_nearest(const TextureView& tex, const float* coord, int dims)
 {
     // lp_build_sample_wrap_nearest (SoA) truncates coord * size and clamps; lp_build_sample_wrap_nearest_int (AoS)
@@ -65,7 +86,9 @@ glm::vec4 sample_nearest(const TextureView& tex, const float* coord, int dims)
     return texel_fetch(tex, i[0], i[1], i[2]);
 }
 
-glm::vec4 sample_linear_aos(const TextureView& tex, const float* coord, int dims, const LlvmpipeCpu& cpu)
+// flatten: the taps, the lerps and the conversion inlined, as the loop runs them on every lookup of an 8-bit volume.
+[[gnu::flatten]] glm::vec4 sample_linear_aos(const TextureView& tex, const float* coord, int dims,
+                                             const LlvmpipeCpu& cpu)
 {
     // lp_bld_sample_aos.c, lp_build_sample_image_linear + lp_build_sample_fetch_image_linear: the same lerp tree
     // as the SoA path (lp_build_reduce_filter_2d / _3d -> lp_build_lerp_2d / _3d, x first, then y, then z), but on
@@ -76,19 +99,20 @@ glm::vec4 sample_linear_aos(const TextureView& tex, const float* coord, int dims
     const LinearTaps8 ty = wrap_linear_aos(coord[1], tex.height);
     const LinearTaps8 tz = dims == 3 ? wrap_linear_aos(coord[2], tex.depth) : LinearTaps8{0, 0, 0};
     const bool rounds = cpu.lerp8_rounds;
-    glm::vec4 out;
-    for (int c = 0; c < 4; ++c) {
-        auto slice = [&](int z) {
-            const uint8_t v00 = fetch_byte(tex, texel_index(tex, tx.i0, ty.i0, z), c);
-            const uint8_t v01 = fetch_byte(tex, texel_index(tex, tx.i1, ty.i0, z), c);
-            const uint8_t v10 = fetch_byte(tex, texel_index(tex, tx.i0, ty.i1, z), c);
-            const uint8_t v11 = fetch_byte(tex, texel_index(tex, tx.i1, ty.i1, z), c);
-            const uint8_t r0 = lerp_unorm8(tx.weight, v00, v01, rounds);
-            const uint8_t r1 = lerp_unorm8(tx.weight, v10, v11, rounds);
+    const SliceTexels texel(tex, tx, ty, tz, dims);
+    // A channel the format lacks is the same byte at every tap (fetch_byte: 0, alpha 255), and a lerp of two equal
+    // bytes returns that byte (delta 0): its result is the constant, converted as the others.
+    glm::vec4 out(unorm8_to_float(0), unorm8_to_float(0), unorm8_to_float(0), unorm8_to_float(255));
+    for (int c = 0; c < tex.channels; ++c) {
+        auto slice = [&](int s) {
+            const uint8_t r0 =
+                lerp_unorm8(tx.weight, fetch_byte(tex, texel[s][0], c), fetch_byte(tex, texel[s][1], c), rounds);
+            const uint8_t r1 =
+                lerp_unorm8(tx.weight, fetch_byte(tex, texel[s][2], c), fetch_byte(tex, texel[s][3], c), rounds);
             return lerp_unorm8(ty.weight, r0, r1, rounds);
         };
-        const uint8_t c0 = slice(tz.i0);
-        out[c] = unorm8_to_float(dims == 3 ? lerp_unorm8(tz.weight, c0, slice(tz.i1), rounds) : c0);
+        const uint8_t c0 = slice(0);
+        out[c] = unorm8_to_float(dims == 3 ? lerp_unorm8(tz.weight, c0, slice(1), rounds) : c0);
     }
     return out;
 }
@@ -119,15 +143,7 @@ glm::vec4 sample_linear_soa(const TextureView& tex, const float* coord, int dims
     const LinearTaps tx = wrap_linear_soa(coord[0], tex.width);
     const LinearTaps ty = wrap_linear_soa(coord[1], tex.height);
     const LinearTaps tz = dims == 3 ? wrap_linear_soa(coord[2], tex.depth) : LinearTaps{0, 0, 0.0f};
-    // The texels of the two slices (v_yx of slice z), computed once for the four channels.
-    std::size_t texel[2][4];
-    for (int s = 0; s < (dims == 3 ? 2 : 1); ++s) {
-        const int z = s == 0 ? tz.i0 : tz.i1;
-        texel[s][0] = texel_index(tex, tx.i0, ty.i0, z);
-        texel[s][1] = texel_index(tex, tx.i1, ty.i0, z);
-        texel[s][2] = texel_index(tex, tx.i0, ty.i1, z);
-        texel[s][3] = texel_index(tex, tx.i1, ty.i1, z);
-    }
+    const SliceTexels texel(tex, tx, ty, tz, dims);
     glm::vec4 out;
     for (int c = 0; c < 4; ++c) {
         auto slice = [&](int s) {
@@ -194,13 +210,13 @@ int32_t x86_cvt_rne(float x)
  */
 float unorm8_to_float(uint8_t v)
 {
-    static const float kScale = static_cast<float>(1.0 / 255.0);
+    constexpr float kScale = static_cast<float>(1.0 / 255.0);  // rounded to nearest, at compile time as at run time
     return static_cast<float>(v) * kScale;
 }
 
 float unorm16_to_float(uint16_t v)
 {
-    static const float kScale = static_cast<float>(1.0 / 65535.0);
+    constexpr float kScale = static_cast<float>(1.0 / 65535.0);
     return static_cast<float>(v) * kScale;
 }
 
