@@ -274,3 +274,24 @@ TEST_CASE("far from the origin: VICP on coordinates at 1e8 with features at 1e-3
     CHECK(e.rmse <= kConvergenceRmse);
     CHECK(e.max_abs <= kConvergenceMax);
 }
+
+TEST_CASE("the VICP frame without diagnostics has the same bits and no per-pixel counts or wrong exits")
+{
+    const Scene s = test::make_scene(load_builtin("builtin:torus-small"), 0);
+    const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 30.0, 50.0);
+    for (const InterpolationMode mode : {InterpolationMode::gpu, InterpolationMode::exact}) {
+        INFO("--interpolation " << (mode == InterpolationMode::gpu ? "gpu" : "exact"));
+        VicpOptions o;
+        o.interpolation = mode;
+        const VicpFrame with = VicpRenderer(s.mesh, s.topo, s.field, s.tf, o, true).render(cam, 160, 120);
+        const VicpFrame without = VicpRenderer(s.mesh, s.topo, s.field, s.tf, o, false).render(cam, 160, 120);
+        CHECK(with.image.rgba == without.image.rgba);
+        CHECK(with.stats.fragments > 0);
+        CHECK(without.fragments.empty());
+        CHECK(without.ordering_errors.empty());
+        CHECK(without.stats.fragments == 0);
+        CHECK(without.wrong_exits.empty());
+        // The published program's wrong exits are found with diagnostics (there are some on this view).
+        if (mode == InterpolationMode::gpu) CHECK(with.stats.wrong_exits > 0);
+    }
+}

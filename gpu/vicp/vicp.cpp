@@ -26,11 +26,14 @@ void store_vicp_frame(const std::vector<glm::vec4>& colour, const std::vector<Vi
 {
     const std::size_t npix = std::size_t(width) * std::size_t(height);
     out.image = Image(width, height);
-    out.fragments.resize(npix);
-    out.ordering_errors.resize(npix);
+    if (!diag.empty()) {
+        out.fragments.resize(npix);
+        out.ordering_errors.resize(npix);
+    }
     VicpStats& st = out.stats;
     for_each_gl_pixel(width, height, [&](std::size_t p, std::size_t q) {
         std::memcpy(&out.image.rgba[4 * q], &colour[p][0], 4 * sizeof(float));
+        if (diag.empty()) return;
         const VicpDiagnostics& d = diag[p];
         out.fragments[q] = d.fragments;
         out.ordering_errors[q] = d.ordering_errors;
@@ -38,6 +41,12 @@ void store_vicp_frame(const std::vector<glm::vec4>& colour, const std::vector<Vi
         st.ordering_errors += d.ordering_errors;
         st.max_fragments = std::max(st.max_fragments, d.fragments);
     });
+}
+
+// Pixel p's diagnostics, or none when the frame keeps none.
+static VicpDiagnostics* diagnostics_at(std::vector<VicpDiagnostics>& diag, std::size_t p)
+{
+    return diag.empty() ? nullptr : &diag[p];
 }
 
 void store_setup_stats(const VicpMesh& vm, const VicpFrameSetup& fs, VicpStats& st)
@@ -88,7 +97,7 @@ void VicpRenderer::composite_exact_coverage(const VicpFrameConstants& fc, const 
             // parallel to a face and outside it: not crossed.
             if (seg.misses || !(seg.t_out > seg.t_in) || !(seg.length < 1e-10 * kVicpNoExit)) continue;
             const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
-            vicp_composite(fc, seg, fb[p], shade, &diag[p]);
+            vicp_composite(fc, seg, fb[p], shade, diagnostics_at(diag, p));
         }
 }
 
@@ -116,7 +125,7 @@ void VicpRenderer::composite_published(const VicpFrameConstants& fc, const VicpF
         if (ts.empty() || ts.facing != Facing::front) continue;
         if (!have_records) {
             mesh_.published_records(cell, fs.points_f, records);
-            tet = mesh_.constants(cell, fs.snapped);
+            if (diagnostics_) tet = mesh_.constants(cell, fs.snapped);  // the exact segment's
             have_records = true;
         }
         const SetupVertex sv[3] = {setup[v[0]], setup[v[1]], setup[v[2]]};
@@ -125,7 +134,7 @@ void VicpRenderer::composite_published(const VicpFrameConstants& fc, const VicpF
         const VicpPublishedPlanes planes = vicp_published_planes(sv, vary, ts);
         // The ordering-error diagnostic's entry point (vicp_published_entry_distance): the vertex positions, `smooth`.
         AttributePlane entry_planes[3];
-        for (int c = 0; c < 3; ++c) {
+        for (int c = 0; c < (diagnostics_ ? 3 : 0); ++c) {
             const float x[3] = {records[3 * f].position[c], records[3 * f + 1].position[c],
                                 records[3 * f + 2].position[c]};
             entry_planes[c] = attribute_plane(planes.setup, sv, x, Qualifier::smooth);
@@ -133,12 +142,17 @@ void VicpRenderer::composite_published(const VicpFrameConstants& fc, const VicpF
         for_each_fragment_in_tile(ts, tile, [&](int px, int py) {
             const float factor = perspective_factor(planes.setup, px, py, arith);  // shared by every smooth input
             const VicpPublishedExit e = vicp_published_exit(vicp_published_varyings_at(planes, px, py, factor, arith));
+            const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
+            if (!diagnostics_) {  // the segment's distance from the eye serves the diagnostics only
+                vicp_composite(fc, VicpSegment{e.s_front, e.s_back, 0.0, double(e.length), e.length}, fb[p], shade,
+                               nullptr);
+                return;
+            }
             glm::vec3 entry;
             interpolate(entry_planes, 3, Qualifier::smooth, px, py, factor, arith, &entry[0]);
             const double t_in = double(vicp_published_entry_distance(view, entry));
             const VicpSegment seg{e.s_front, e.s_back, t_in, t_in + double(e.length), e.length};
             const VicpSegment exact = vicp_fragment_values(fc, tet, px, py);
-            const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
             vicp_composite(fc, seg, fb[p], shade, &diag[p]);
             // A wrong exit: another face than the exact crossing's, or a segment where the exact ray has none (or the
             // reverse). Entry j is the face opposite the front face's corner j.
@@ -152,9 +166,9 @@ void VicpRenderer::composite_published(const VicpFrameConstants& fc, const VicpF
     }
 }
 
-VicpRenderer::VicpRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
-                           const TransferFunction& tf, const VicpOptions& options)
-    : mesh_(mesh, topo, field, tf, options)
+VicpRenderer::VicpRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
+                           const VicpOptions& options, bool diagnostics)
+    : mesh_(mesh, topo, field, tf, options), diagnostics_(diagnostics)
 {
 }
 
@@ -212,7 +226,7 @@ void composite_exact_interpolation(const VicpMesh& mesh, const VicpFrameSetup& f
             }
             const std::size_t p = std::size_t(py) * std::size_t(fbuf.width) + std::size_t(px);
             const VicpSegment seg = vicp_fragment_values(fc, tet, px, py);
-            vicp_composite(fc, seg, fb[p], shade, &diag[p]);
+            vicp_composite(fc, seg, fb[p], shade, diagnostics_at(diag, p));
         });
     };
     if (cut == kWholeCell) {
@@ -266,11 +280,12 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
         segment_shader(mesh_.table(), mesh_.options().filter, mesh_.integrator(), mesh_.range());
     const std::size_t npix = std::size_t(width) * std::size_t(height);
     std::vector<glm::vec4> fb(npix, glm::vec4(0.0f));
-    std::vector<VicpDiagnostics> diag(npix);
+    std::vector<VicpDiagnostics> diag(diagnostics_ ? npix : 0);
     t0 = Clock::now();
     std::vector<SetupVertex> setup;
-    std::vector<uint32_t> wrong_exits(published ? npix : 0);  // per pixel, GL rows
-    std::vector<float> length_error(published ? npix : 0);
+    const bool exits = published && diagnostics_;         // the wrong exits and length errors
+    std::vector<uint32_t> wrong_exits(exits ? npix : 0);  // per pixel, GL rows
+    std::vector<float> length_error(exits ? npix : 0);
     if (published) {
         const FlushDenormals llvmpipe_mxcsr;  // the draw module's viewport transform runs so (gpu/pipeline/denormals.h)
         setup.resize(fs.points_f.size());
@@ -299,7 +314,7 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
     if (published) st.sent_faces = published_sent_faces(fs, cut_index);
 
     store_vicp_frame(fb, diag, width, height, out);
-    if (published) {
+    if (exits) {
         out.wrong_exits.resize(npix);
         out.length_error.resize(npix);
         for_each_gl_pixel(width, height, [&](std::size_t p, std::size_t q) {

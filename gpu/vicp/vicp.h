@@ -54,13 +54,17 @@ void store_setup_stats(const VicpMesh& vm, const VicpFrameSetup& fs, VicpStats& 
 
 class VicpRenderer {
 public:
+    // `diagnostics`: the per-pixel counts (fragments, ordering errors) and, with the published interpolation, the
+    // wrong exits and length errors against the exact segment, which cost a frame about half its time more; the image
+    // is the same without them (uvr bench times frames without, as the GL driver is timed).
     VicpRenderer(const TetMesh& mesh, const MeshTopology& topo, std::size_t field, const TransferFunction& tf,
-                 const VicpOptions& options);
+                 const VicpOptions& options, bool diagnostics = true);
     VicpFrame render(const Camera& camera, int width, int height) const;
     const VicpMesh& cpu_stage() const { return mesh_; }
 
 private:
     VicpMesh mesh_;
+    bool diagnostics_ = true;
 
     void composite_published(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot,
                              const VicpPublishedView& view, const std::vector<SetupVertex>& setup, const TileRect& tile,
