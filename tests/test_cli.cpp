@@ -222,10 +222,11 @@ TEST_CASE("uvr render with the camera inside the mesh: HAVS and VICP render it o
 
 TEST_CASE("uvr demo shows the whole lab, each GL image with its emulated twin's bits")
 {
-    // At 192 x 192 rather than the default 512 x 512: every step and page runs the same code at any size, in a third
-    // of the time (docs/robustness.md, "What the suite costs").
+    // At 192 x 192 rather than the default 512 x 512 (96 x 96 under the sanitizers): every step and page runs the same
+    // code at any size, in a third of the time (docs/robustness.md, "What the suite costs").
     uvr::test::TempDir tmp("demo");
-    const CommandResult r = run_uvr("demo --size 192x192 --out '" + tmp.file("d") + "'");
+    const std::string size = uvr::test::sanitized() ? "96x96" : "192x192";
+    const CommandResult r = run_uvr("demo --size " + size + " --out '" + tmp.file("d") + "'");
     INFO(r.out << r.err);
     REQUIRE(r.exit_code == 0);
     CHECK(std::filesystem::exists(tmp.file("d/index.html")));
