@@ -46,6 +46,7 @@ void require_identical(const Scene& s, const Camera& cam, int width, int height,
         HavsOptions o;
         o.k = k;
         o.interpolation = interpolation;
+        o.table_size = test::table_side(o.table_size);
         const HavsFrame emu = HavsRenderer(s.mesh, s.topo, s.field, s.tf, o).render(cam, width, height);
         GlHavsRenderer gl(ctx, s.mesh, s.topo, s.field, s.tf, o, diagnostics, access);
         gl.set_faces_per_draw(faces_per_draw);

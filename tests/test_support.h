@@ -1,6 +1,7 @@
 // Helpers shared by the tests: where the data is, temporary files, running the `uvr` program.
 #pragma once
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -50,6 +51,14 @@ std::vector<T> views(std::initializer_list<T> all)
 {
     if (!sanitized() || all.size() <= 1) return all;
     return {*all.begin()};
+}
+
+// The pre-integration table's texels per axis in a test of frames that does not test the table itself: the default
+// `n`, or under the sanitizers a quarter of it. Every texel is the same computation (the segment integral), which
+// the frames then sample by the same code at any size; a 128^3 table is most of an instrumented GL frame test's time.
+inline int table_side(int n)
+{
+    return sanitized() ? std::max(2, n / 4) : n;
 }
 
 inline std::string data_path(const std::string& rel)

@@ -35,6 +35,7 @@ VicpOptions options(CellOrder order, float threshold = 1.0f)
     VicpOptions o;
     o.order = order;
     o.threshold = threshold;
+    o.table_size = test::table_side(o.table_size);
     return o;
 }
 
