@@ -143,17 +143,16 @@ void VicpRenderer::composite_published(const VicpFrameConstants& fc, const VicpF
             const float factor = perspective_factor(planes.setup, px, py, arith);  // shared by every smooth input
             const VicpPublishedExit e = vicp_published_exit(vicp_published_varyings_at(planes, px, py, factor, arith));
             const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
-            if (!diagnostics_) {  // the segment's distance from the eye serves the diagnostics only
-                vicp_composite(fc, VicpSegment{e.s_front, e.s_back, 0.0, double(e.length), e.length}, fb[p], shade,
-                               nullptr);
-                return;
+            double t_in = 0.0;  // the segment's distance from the eye serves the diagnostics only
+            if (diagnostics_) {
+                glm::vec3 entry;
+                interpolate(entry_planes, 3, Qualifier::smooth, px, py, factor, arith, &entry[0]);
+                t_in = double(vicp_published_entry_distance(view, entry));
             }
-            glm::vec3 entry;
-            interpolate(entry_planes, 3, Qualifier::smooth, px, py, factor, arith, &entry[0]);
-            const double t_in = double(vicp_published_entry_distance(view, entry));
             const VicpSegment seg{e.s_front, e.s_back, t_in, t_in + double(e.length), e.length};
+            vicp_composite(fc, seg, fb[p], shade, diagnostics_at(diag, p));
+            if (!diagnostics_) return;
             const VicpSegment exact = vicp_fragment_values(fc, tet, px, py);
-            vicp_composite(fc, seg, fb[p], shade, &diag[p]);
             // A wrong exit: another face than the exact crossing's, or a segment where the exact ray has none (or the
             // reverse). Entry j is the face opposite the front face's corner j.
             const int chosen = e.face < 0 ? -1 : kVicpCorner[f][e.face];
