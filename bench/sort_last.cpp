@@ -99,6 +99,48 @@ Scene part_scene(const Scene& s, TetMesh part)
     return p;
 }
 
+nlohmann::json merge_part_stats(const std::vector<nlohmann::json>& parts)
+{
+    nlohmann::json out = parts.front();
+    for (auto& [key, value] : out.items()) {
+        std::vector<nlohmann::json> each;
+        for (const auto& p : parts) each.push_back(p.at(key));
+        if (value.is_object()) {
+            value = merge_part_stats(each);
+            continue;
+        }
+        if (!value.is_number() || key == "k") continue;
+        if (std::any_of(each.begin(), each.end(), [](const nlohmann::json& v) { return v.is_null(); })) {
+            value = nullptr;
+            continue;
+        }
+        const bool integral =
+            std::all_of(each.begin(), each.end(), [](const nlohmann::json& v) { return v.is_number_integer(); });
+        const auto get = [&](const nlohmann::json& v) { return integral ? nlohmann::json(v.get<uint64_t>()) : v; };
+        if (key.starts_with("max_")) {
+            value = get(*std::max_element(each.begin(), each.end(), [](const auto& x, const auto& y) {
+                return x.template get<double>() < y.template get<double>();
+            }));
+        } else if (key.ends_with("_per_tet")) {
+            double sum = 0.0, cells = 0.0;
+            for (const auto& p : parts) {
+                sum += p.at("cells").get<double>() * p.at(key).get<double>();
+                cells += p.at("cells").get<double>();
+            }
+            value = sum / cells;
+        } else if (integral) {
+            uint64_t n = 0;
+            for (const auto& v : each) n += v.get<uint64_t>();
+            value = n;
+        } else {
+            double sum = 0.0;
+            for (const auto& v : each) sum += v.get<double>();
+            value = sum;
+        }
+    }
+    return out;
+}
+
 Image blend_back_to_front(const std::vector<Image>& images, const std::vector<uint32_t>& order)
 {
     Image out(images[0].width, images[0].height);
@@ -125,14 +167,14 @@ AlgoResult render_sort_last(const Scene& s, const std::string& algo, const AlgoO
     std::vector<Image> images;
     std::vector<Bounds> boxes;
     AlgoResult r;
-    nlohmann::json part_ms = nlohmann::json::array(), part_stats = nlohmann::json::array();
+    nlohmann::json part_ms = nlohmann::json::array();
+    std::vector<nlohmann::json> part_stats;
     for (uint32_t p = 0; p < parts; ++p) {
         const Scene ps = part_scene(s, extract_part(mesh, part_of, p));
         boxes.push_back(centroid_box(ps.mesh()));
         AlgoResult pr = run_algorithm(ps, algo, one);
         part_ms.push_back(pr.ms);
         part_stats.push_back(pr.stats);
-        if (p == 0) r.stats = pr.stats;
         accumulate(r.fragments, pr.fragments, false);
         accumulate(r.max_held, pr.max_held, true);
         accumulate(r.ordering_errors, pr.ordering_errors, false);
@@ -142,6 +184,7 @@ AlgoResult render_sort_last(const Scene& s, const std::string& algo, const AlgoO
     bool separated = true;
     const std::vector<uint32_t> order = back_to_front(boxes, s.camera, separated);
     r.image = blend_back_to_front(images, order);
+    r.stats = merge_part_stats(part_stats);
     r.stats["sort_last"] = {{"parts", parts},         {"partition", o.partition}, {"order", order},
                             {"separated", separated}, {"part_ms", part_ms},       {"part_stats", part_stats}};
     r.ms = ms_since(t0);

@@ -30,9 +30,13 @@ Scene part_scene(const Scene& s, TetMesh part);
 // to float once.
 Image blend_back_to_front(const std::vector<Image>& images, const std::vector<uint32_t>& order);
 
-// `algo` (havs or vicp) on o.parts parts of s's mesh made by o.partition, blended. stats: part 0's (the options in
-// effect are every part's), with "sort_last": {parts, partition, order, separated, part_ms, part_stats: every part's
-// stats}; the diagnostic images summed over the parts (max_held: the largest).
+// The parts' stats as one frame's: numbers add up ("max_..." take the largest, "..._per_tet" the mean over the parts'
+// "cells", "k" is a setting), a null anywhere is null, strings and booleans are part 0's (every part's settings).
+nlohmann::json merge_part_stats(const std::vector<nlohmann::json>& parts);
+
+// `algo` (havs or vicp) on o.parts parts of s's mesh made by o.partition, blended. stats: the parts' merged
+// (merge_part_stats), with "sort_last": {parts, partition, order, separated, part_ms, part_stats: every part's stats};
+// the diagnostic images summed over the parts (max_held: the largest).
 AlgoResult render_sort_last(const Scene& s, const std::string& algo, const AlgoOptions& o);
 
 }  // namespace uvr::cli

@@ -167,6 +167,44 @@ TEST_CASE("sort-last on parts that are not convex adds an error, and uvr budget 
     CHECK_FALSE(nlohmann::json::parse(plain.out)["factors"].contains("partition"));
 }
 
+TEST_CASE("sort-last's counters are the parts' together: sums, largest values, per-cell means, settings kept")
+{
+    const std::vector<nlohmann::json> parts = {
+        nlohmann::json::parse(R"({"k": 6, "cells": 10, "fragments": 7, "max_held": 3, "bytes_sent_per_tet": 100.0,
+                                  "wrong_exits": 1, "order": "mpvonc", "stages_ms": {"sort": 1.5, "flush": 2.0}})"),
+        nlohmann::json::parse(R"({"k": 6, "cells": 30, "fragments": 5, "max_held": 4, "bytes_sent_per_tet": 200.0,
+                                  "wrong_exits": null, "order": "mpvonc", "stages_ms": {"sort": 0.25, "flush": 1.0}})")};
+    const nlohmann::json m = cli::merge_part_stats(parts);
+    CHECK(m["k"] == 6);
+    CHECK(m["cells"] == 40);
+    CHECK(m["fragments"] == 12);
+    CHECK(m["max_held"] == 4);
+    CHECK(m["bytes_sent_per_tet"].get<double>() == 175.0);  // (10 * 100 + 30 * 200) / 40
+    CHECK(m["wrong_exits"].is_null());
+    CHECK(m["order"] == "mpvonc");
+    CHECK(m["stages_ms"]["sort"].get<double>() == 1.75);
+    CHECK(m["stages_ms"]["flush"].get<double>() == 3.0);
+
+    // On a mesh: VICP's parts hold every cell of the whole once, and HAVS's k stays the k asked for.
+    TempDir dir("sort-last-stats");
+    const std::string torus =
+        "builtin:torus-small --size 48x48 --view 30,20 --no-cache --json --out " + quoted(dir.file("out.npy"));
+    const CommandResult w = test::run_uvr("render " + torus + " --algo vicp");
+    REQUIRE(w.exit_code == 0);
+    const nlohmann::json whole = nlohmann::json::parse(w.out);
+    const CommandResult r = test::run_uvr("render " + torus + " --algo vicp --parts 3");
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    CHECK(j["cells"] == whole["cells"]);
+    uint64_t fragments = 0;
+    for (const auto& p : j["sort_last"]["part_stats"]) fragments += p["fragments"].get<uint64_t>();
+    CHECK(j["fragments"].get<uint64_t>() == fragments);
+    const CommandResult h = test::run_uvr("render " + torus + " --algo havs --k 3 --parts 2");
+    REQUIRE(h.exit_code == 0);
+    CHECK(nlohmann::json::parse(h.out)["k"] == 3);
+}
+
 TEST_CASE("sort-last's --parts is refused where it means nothing")
 {
     TempDir dir("sort-last-refuse");
