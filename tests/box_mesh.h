@@ -27,7 +27,9 @@ inline TetMesh box_mesh(int n, const std::function<double(const glm::dvec3&)>& f
         for (int j = 0; j <= n; ++j)
             for (int i = 0; i <= n; ++i) {
                 const bool inner = i > 0 && i < n && j > 0 && j < n && k > 0 && k < n;
-                const glm::dvec3 p(i + (inner ? U(rng) : 0.0), j + (inner ? U(rng) : 0.0), k + (inner ? U(rng) : 0.0));
+                // z first: the statements fix the order of the draws, not the compiler.
+                const double dz = inner ? U(rng) : 0.0, dy = inner ? U(rng) : 0.0, dx = inner ? U(rng) : 0.0;
+                const glm::dvec3 p(i + dx, j + dy, k + dz);
                 g.points.push_back(p);
             }
     ScalarField f{"f", {}};

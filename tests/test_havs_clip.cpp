@@ -66,8 +66,13 @@ TEST_CASE("the clip stage makes a shared edge's crossing bit for bit the same fr
     std::uniform_real_distribution<double> U(-8.0, 8.0), S(0.0, 1.0);
     int crossings = 0;
     for (int i = 0; i < 20000; ++i) {
-        const ClipVertex a = clip_vertex(vs, {U(rng), U(rng), U(rng)}, S(rng));
-        const ClipVertex b = clip_vertex(vs, {U(rng), U(rng), U(rng)}, S(rng));
+        // Each vertex's scalar is drawn before its position: the statements fix the order, not the compiler.
+        const double sa = S(rng);
+        const glm::dvec3 pa{U(rng), U(rng), U(rng)};
+        const double sb = S(rng);
+        const glm::dvec3 pb{U(rng), U(rng), U(rng)};
+        const ClipVertex a = clip_vertex(vs, pa, sa);
+        const ClipVertex b = clip_vertex(vs, pb, sb);
         for (int plane = 0; plane < kClipPlaneCount; ++plane) {
             const double la = plane_value(planes, plane, a.c), lb = plane_value(planes, plane, b.c);
             if ((la < 0.0) == (lb < 0.0)) continue;

@@ -251,7 +251,9 @@ TEST_CASE("Moreland's Psi reconstruction matches the exact integral of linear pi
         std::uniform_real_distribution<double> u(0.0, 1.0);
         ErrorStats err;
         for (int k = 0; k < 20000; ++k) {
-            const glm::dvec3 cf(u(rng), u(rng), u(rng)), cb(u(rng), u(rng), u(rng));
+            // Blue first: the statements fix the order of the draws, not the compiler.
+            const double cf_b = u(rng), cf_g = u(rng), cf_r = u(rng), cb_b = u(rng), cb_g = u(rng), cb_r = u(rng);
+            const glm::dvec3 cf(cf_r, cf_g, cf_b), cb(cb_r, cb_g, cb_b);
             const double tf = 8 * u(rng), tb = 8 * u(rng), d = u(rng);
             const glm::dvec4 got = psi_integrate_piece(psi, cf, cb, tf, tb, d);
             const glm::dvec4 exact = integrate_linear_piece(cf, cb, tf, tb, d);

@@ -44,10 +44,14 @@ enum class FrameKind { outside, inside, on_face, axis_ortho, random_constants, c
 RaycastFrameConstants random_ray_frame(Rng& r, FrameKind kind, int size)
 {
     RaycastFrameConstants fc;
-    const glm::dvec3 dims(2 + r.pick(80), 2 + r.pick(80), r.pick(6) == 0 ? 1 : 2 + r.pick(80));  // 1: a flat box
+    // z first, in this statement and the ones below: the statements fix the order of the draws, not the compiler.
+    const int nz = r.pick(6) == 0 ? 1 : 2 + r.pick(80);  // 1: a flat box
+    const int ny = 2 + r.pick(80), nx = 2 + r.pick(80);
+    const glm::dvec3 dims(nx, ny, nz);
     const double scales[4] = {1e-3, 0.37, 1.0, 250.0};
     const double unit = scales[r.pick(4)];
-    const glm::dvec3 spacing = unit * glm::dvec3(r.uni(0.5, 2.0), r.uni(0.5, 2.0), r.uni(0.5, 2.0));
+    const double hz = r.uni(0.5, 2.0), hy = r.uni(0.5, 2.0), hx = r.uni(0.5, 2.0);
+    const glm::dvec3 spacing = unit * glm::dvec3(hx, hy, hz);
     const glm::dvec3 extent = (dims - 1.0) * spacing;
     fc.box_hi = 0.5 * extent;
     fc.box_lo = -fc.box_hi;
@@ -208,7 +212,8 @@ void check_march(GlRaycastHarness& h, const Volume& v, const TransferFunction& t
     o.table_size = 32;  // small: lookups land between texels at every level
     const RaycastVolume rv(v, tf, o);
     const Bounds b = volume_bounds(v);
-    const Camera base = default_camera(b, 1.0, r.uni(-180.0, 180.0), r.uni(-80.0, 80.0));
+    const double elevation = r.uni(-80.0, 80.0), azimuth = r.uni(-180.0, 180.0);  // in this order
+    const Camera base = default_camera(b, 1.0, azimuth, elevation);
     RaycastFrameConstants fc = raycast_frame_constants(rv, base, 64, 64);
     const RaycastTextures tex = raycast_textures(rv);
     std::vector<RaycastRay> rays(count);
@@ -218,7 +223,8 @@ void check_march(GlRaycastHarness& h, const Volume& v, const TransferFunction& t
     std::size_t first = 0;
     if (tie) {
         for (int tries = 0; tries < 4096 && first == 0; ++tries) {
-            const RaycastRay ray = raycast_ray(fc, r.pick(64), r.pick(64));
+            const int py = r.pick(64), px = r.pick(64);  // in this order
+            const RaycastRay ray = raycast_ray(fc, px, py);
             const float a = ray.samples > 2 ? tie_threshold(fc, ray, tex) : 0.0f;
             if (a > 0.0f) fc.threshold = a, rays[first++] = ray;
         }
@@ -237,7 +243,8 @@ void check_march(GlRaycastHarness& h, const Volume& v, const TransferFunction& t
                 in.target = in.eye + r.vec(1.0) + glm::dvec3(1e-3);
                 static_cast<PixelRays&>(cam_fc) = pixel_rays(in, 64, 64, rv.origin());
             }
-            rays[i] = raycast_ray(cam_fc, r.pick(64), r.pick(64));
+            const int py = r.pick(64), px = r.pick(64);  // in this order
+            rays[i] = raycast_ray(cam_fc, px, py);
         }
     }
     const std::vector<RaycastResult> g = h.run_march(rv, fc, rays);
@@ -322,10 +329,13 @@ void compare_light(const RaycastFrameConstants& fc, const std::vector<RaycastLig
 RaycastFrameConstants random_published_frame(Rng& r)
 {
     RaycastFrameConstants fc;
-    const glm::dvec3 dims(1 + r.pick(300), 1 + r.pick(300), 1 + r.pick(300));
+    // z first: the statements fix the order of the draws, not the compiler.
+    const int nz = 1 + r.pick(300), ny = 1 + r.pick(300), nx = 1 + r.pick(300);
+    const glm::dvec3 dims(nx, ny, nz);
     const double scales[4] = {1e-3, 0.37, 1.0, 250.0};
     const double unit = scales[r.pick(4)];
-    const glm::dvec3 spacing = unit * glm::dvec3(r.uni(0.5, 2.0), r.uni(0.5, 2.0), r.uni(0.5, 2.0));
+    const double hz = r.uni(0.5, 2.0), hy = r.uni(0.5, 2.0), hx = r.uni(0.5, 2.0);
+    const glm::dvec3 spacing = unit * glm::dvec3(hx, hy, hz);
     fc.tex_scale = 1.0 / (dims * spacing);
     fc.tex_half = 0.5 / dims;
     fc.tex_extent = glm::vec3(dims * spacing);

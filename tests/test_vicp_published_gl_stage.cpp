@@ -54,7 +54,8 @@ void published_records(Rng& r, const VicpPublishedView& view, std::vector<VicpPu
         // The face opposite vertex 0 made to hold vertex 0's view direction (the line from the eye through it, or the
         // orthographic direction): n . r is then 0 up to rounding, a distance of 1 / (almost) 0.
         const glm::dvec3 along = view.orthographic ? glm::dvec3(view.direction) : glm::normalize(p[0]);
-        p[3] = p[1] + r.uni(0.2, 0.8) * (p[2] - p[1]) + r.uni(0.5, 1.5) * size * along;
+        const double on_edge = r.uni(0.2, 0.8), off = r.uni(0.5, 1.5);  // in this order
+        p[3] = p[1] + on_edge * (p[2] - p[1]) + off * size * along;
     }
     const double s[4] = {r.uni(0.0, 1.0), r.uni(0.0, 1.0), r.pick(5) == 0 ? 0.5 : r.uni(0.0, 1.0), r.uni(-0.1, 1.1)};
     // The gradient of the linear field through the four points (0 for a constant cell).
