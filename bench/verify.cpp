@@ -284,6 +284,16 @@ nlohmann::json size_levels(Scene& s, const VerifyRequest& a, const Expectation& 
                                  std::to_string(a.levels - 1) + " times passes 16384 pixels");
     std::vector<Image> images;
     nlohmann::json levels = nlohmann::json::array();
+    // The scene's own size again however the levels end (a Python scene outlives the call).
+    struct Restore {
+        Scene& s;
+        int w, h;
+        ~Restore()
+        {
+            s.width = w;
+            s.height = h;
+        }
+    } restore{s, w0, h0};
     for (int i = 0; i < a.levels; ++i) {
         s.width = w0 << i;
         s.height = h0 << i;
@@ -291,8 +301,6 @@ nlohmann::json size_levels(Scene& s, const VerifyRequest& a, const Expectation& 
         levels.push_back({{"h", std::ldexp(1.0, -i)}, {"width", s.width}, {"height", s.height}, {"ms", r.ms}});
         images.push_back(std::move(r.image));
     }
-    s.width = w0;
-    s.height = h0;
     std::vector<double> h;
     std::vector<ErrorMeasures> e;
     for (int i = 0; i + 1 < a.levels; ++i) {
@@ -316,26 +324,24 @@ nlohmann::json verify_refinement(const SceneOptions& scene, const VerifyRequest&
     nlohmann::json j;
     if (a.refine == "mesh") {
         j = mesh_levels(scene, a, ex);
-    } else if (a.refine == "size") {
-        Scene s = setup_scene(scene);
-        j = size_levels(s, a, ex);
     } else {
-        const Scene s = setup_scene(scene);
+        Scene s = setup_scene(scene);
         j = verify_refinement(s, a);
     }
     j["input"] = scene.input.path;
     return j;
 }
 
-nlohmann::json verify_refinement(const Scene& s, const VerifyRequest& a)
+nlohmann::json verify_refinement(Scene& s, const VerifyRequest& a)
 {
     check_levels(a);
-    if (a.refine != "step" && a.refine != "table")
+    if (a.refine == "mesh")
         throw InputError("",
-                         "on a scene made already, verify refines step or table (mesh and size make their own "
-                         "scenes: uvr verify)");
-    check_algorithm_scene(s, a.algo);
+                         "--refine mesh makes its own scenes, builtin:grid-N at each level: verify it from the "
+                         "scene's options (uvr verify builtin:grid-N)");
     const Expectation ex = expected_order(a.algo, a.refine, a.options);
+    if (a.refine == "size") return size_levels(s, a, ex);
+    check_algorithm_scene(s, a.algo);
     const std::vector<double> h = refinement(a, s);
     const std::vector<AlgoOptions> opts = level_options(a, s, h);
     const Image ref = run_algorithm(s, "reference", a.options).image;

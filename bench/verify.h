@@ -46,7 +46,8 @@ struct VerifyRequest {
 // builtin:grid-N named by `scene`) or the next level's mean of four pixels (size); their orders, the expected ones and
 // the verdict: docs/verification.md's JSON.
 nlohmann::json verify_refinement(const SceneOptions& scene, const VerifyRequest& r);
-nlohmann::json verify_refinement(const Scene& s, const VerifyRequest& r);  // step and table, on a scene made already
+// step, table and size on a scene made already (size renders it at larger sizes and gives it its own back).
+nlohmann::json verify_refinement(Scene& s, const VerifyRequest& r);
 
 // Images at decreasing `h` against `reference`, or (null) their successive differences; `channels` 3 compares colour
 // only. `expected` NaN: no verdict.

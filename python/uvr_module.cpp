@@ -40,6 +40,7 @@ struct Data {
 // A scene: data, field, transfer function, camera and size, set up as the program's scene options set it up.
 struct PyScene {
     std::unique_ptr<uvr::cli::Scene> scene;
+    std::optional<uvr::cli::SceneOptions> options;  // a scene made from a file or builtin:NAME: how to make it again
 };
 
 std::string json_text(const py::handle& value)
@@ -332,6 +333,7 @@ PyScene make_scene(const py::object& source, const std::string& field, const std
     if (py::isinstance<py::str>(source)) {
         o.input.path = source.cast<std::string>();
         s.scene = std::make_unique<uvr::cli::Scene>(uvr::cli::setup_scene(o));
+        s.options = o;
     } else if (py::isinstance<Data>(source)) {
         s.scene = std::make_unique<uvr::cli::Scene>(uvr::cli::setup_scene(source.cast<const Data&>().dataset, o));
     } else {
@@ -464,22 +466,30 @@ void bind_measures(py::module_& m)
         "`report` and returns budget.json's object (a dict). Options as render's.");
     m.def(
         "verify",
-        [](const PyScene& s, const std::string& algo, const std::string& refine, int levels, double from, bool isolate,
+        [](PyScene& s, const std::string& algo, const std::string& refine, int levels, double from, bool isolate,
            const py::kwargs& kwargs) {
             uvr::cli::VerifyRequest r{algo, refine, levels, from, isolate, algo_options(kwargs), ""};
+            if (refine == "mesh" && !s.options)
+                throw InputError("", "refine='mesh' refines builtin:grid-N: make the scene from that name");
             std::string text;
-            {
-                py::gil_scoped_release free_python;
+            if (refine == "size") {
+                // The levels render the scene itself at larger sizes: no other Python thread may see it meanwhile.
                 text = uvr::cli::verify_refinement(*s.scene, r).dump();
+            } else {
+                py::gil_scoped_release free_python;
+                text = (refine == "mesh" ? uvr::cli::verify_refinement(*s.options, r)
+                                         : uvr::cli::verify_refinement(*s.scene, r))
+                           .dump();
             }
             return json_value(text);
         },
         py::arg("scene"), py::arg("algo"), py::arg("refine"), py::kw_only(), py::arg("levels") = 4,
         py::arg("start") = 0.0, py::arg("isolate") = false,
         "The observed order of accuracy as `uvr verify` computes it (docs/verification.md): `algo` rendered at "
-        "`levels` refinements of `refine` (step or table) from `start` (the program's --from; 0 the default), each "
-        "against the reference; isolate=True sets every other switch exact. Returns the JSON's object (a dict). "
-        "Options as render's.");
+        "`levels` refinements of `refine` (step, table, size, or mesh on a scene made from builtin:grid-N) from "
+        "`start` (the program's --from; 0 the default), each against the reference (mesh: the analytic field's "
+        "integral; size: the next level's box average); isolate=True sets every other switch exact. Returns the "
+        "JSON's object (a dict). Options as render's.");
     m.def(
         "verify_images",
         [](const py::sequence& images, const std::vector<double>& h, const py::object& reference,

@@ -258,6 +258,17 @@ def test_verify_gives_the_programs_orders(tmp_path):
                                        check=True, capture_output=True, text=True).stdout)
     assert mine["measures"] == theirs["measures"]
     assert mine["verdict"] == theirs["verdict"] == "pass"
+    # The refinements that make their own scenes: the image's size (the scene keeps its own) and the mesh.
+    for source, refine in (("builtin:torus-small", "size"), ("builtin:grid-4", "mesh")):
+        scene = uvr.Scene(source, size=(24, 20), view=(30, 50))
+        mine = uvr.verify(scene, "reference", refine, levels=3)
+        theirs = json.loads(subprocess.run([PROGRAM, "verify", source, "--size", "24x20", "--view", "30,50", "--algo",
+                                            "reference", "--refine", refine, "--levels", "3", "--json"],
+                                           check=True, capture_output=True, text=True).stdout)
+        assert mine["measures"] == theirs["measures"], refine
+        assert (scene.width, scene.height) == (24, 20)
+    with pytest.raises(uvr.Error, match="builtin:grid-N"):
+        uvr.verify(uvr.Scene("builtin:torus-small", **SMALL), "reference", "mesh")
     reference = np.full((8, 8, 4), 0.5, dtype=np.float32)
     h = [1.0, 0.5, 0.25, 0.125]
     images = [reference + np.float32(0.01 * x * x) for x in h]
