@@ -65,6 +65,19 @@ TEST_CASE("x86 float-to-int conversions truncate or round to even and overflow t
         CHECK(x86_cvt_rne(-2.5f) == -2);
         CHECK(x86_cvt_rne(2.5000002f) == 3);
     }
+    SECTION("rounding agrees with the C library's nearest-even rounding on every float of [-2^24, 2^24] in a sweep")
+    {
+        // Every 97th float bit pattern up from 0 to 2^24 and its negative: halves, quarters, near-integers and large
+        // integers alike; std::nearbyint rounds in the default mode, to nearest, ties to even.
+        int differ = 0;
+        for (uint32_t bits = 0; bits <= 0x4b800000u; bits += 97) {
+            float x;
+            std::memcpy(&x, &bits, sizeof x);
+            for (const float v : {x, -x})
+                if (x86_cvt_rne(v) != static_cast<int32_t>(std::nearbyint(v))) ++differ;
+        }
+        CHECK(differ == 0);
+    }
     SECTION("NaN, infinities and values beyond 2^31 give 0x80000000")
     {
         for (float x : {kNaN, kInf, -kInf, 2147483648.0f, -2147483904.0f, 1e10f}) {
@@ -432,5 +445,41 @@ TEST_CASE("the FMA fast path of the float linear filter gives the plain path's b
                 check(coord);
             }
         }
+    }
+}
+
+TEST_CASE("a one-channel 8-bit volume samples as the red channel of the same texels in RGBA8")
+{
+    // sample_3d takes its own path for R8 volumes (the ray caster's); the RGBA8 copy goes through the general AoS
+    // filter, channel by channel. Both rounding variants of the 8-bit lerp, random and special coordinates.
+    std::mt19937 rng(23);
+    const int w = 13, h = 7, d = 6;
+    std::vector<uint8_t> r8(std::size_t(w) * h * d), rgba8(4 * r8.size());
+    for (std::size_t i = 0; i < r8.size(); ++i) {
+        r8[i] = uint8_t(rng() & 0xffu);
+        rgba8[4 * i] = r8[i];
+        rgba8[4 * i + 3] = 255;
+    }
+    const TextureView one{TexelFormat::u8, 1, w, h, d, r8.data()};
+    const TextureView four{TexelFormat::u8, 4, w, h, d, rgba8.data()};
+    std::uniform_real_distribution<float> u(-0.2f, 1.2f);
+    const float specials[] = {0.0f, -0.0f, 1.0f, 0.5f, 1.0f / 26.0f, 1e-30f, 0.999999f, kInf, -kInf, kNaN, 3e9f, -3e9f};
+    for (const bool rounds : {true, false}) {
+        LlvmpipeCpu cpu = kRecordedCpu;
+        cpu.lerp8_rounds = rounds;
+        int differ = 0, checked = 0;
+        auto check = [&](float s, float t, float r) {
+            const glm::vec4 a = sample_3d(one, s, t, r, TextureFilter::linear, cpu);
+            const glm::vec4 b = sample_3d(four, s, t, r, TextureFilter::linear, cpu);
+            const glm::vec4 expected(b.r, unorm8_to_float(0), unorm8_to_float(0), unorm8_to_float(255));
+            ++checked;
+            if (!same_bits(a, expected)) ++differ;
+        };
+        for (int i = 0; i < 100000; ++i) check(u(rng), u(rng), u(rng));
+        for (float a : specials)
+            for (float b : specials)
+                for (float c : specials) check(a, b, c);
+        INFO((rounds ? "rounding" : "truncating") << " lerp: " << differ << " of " << checked << " samples differ");
+        CHECK(differ == 0);
     }
 }

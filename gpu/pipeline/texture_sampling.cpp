@@ -18,7 +18,7 @@ constexpr int32_t kIntegerIndefinite = std::numeric_limits<int32_t>::min();  // 
 
 // Round to nearest, ties to even: exact, and independent of the floating-point environment (the JIT code runs in
 // the default MXCSR mode, which is nearest-even). For |x| < 2^31 only (the callers check): in integers, with no
-// library call, as it is on every 8-bit texture lookup.
+// library call. The upload's float -> unorm8 conversion, and x86_cvt_rne where there is no x86 instruction for it.
 float round_half_even(float x)
 {
     // floor(x): truncation, one down for a negative non-integer. Exact: below 2^23 the floor has at most 24 bits, and
@@ -117,9 +117,34 @@ glm::vec4 sample_nearest(const TextureView& tex, const float* coord, int dims)
     return out;
 }
 
+// sample_linear_aos on a one-channel 3D texture (the ray caster's 8-bit volume, every sample): the same taps, lerps
+// and conversion, with the eight texels addressed from one base and three strides and the red channel alone.
+template <bool kRounds>
+float sample_linear_r8_3d(const TextureView& tex, const float* coord)
+{
+    const LinearTaps8 tx = wrap_linear_aos(coord[0], tex.width);
+    const LinearTaps8 ty = wrap_linear_aos(coord[1], tex.height);
+    const LinearTaps8 tz = wrap_linear_aos(coord[2], tex.depth);
+    const std::size_t w = std::size_t(tex.width), wh = w * std::size_t(tex.height);
+    const uint8_t* p = static_cast<const uint8_t*>(tex.texels) + texel_index(tex, tx.i0, ty.i0, tz.i0);
+    const std::size_t dx = std::size_t(tx.i1 - tx.i0), dy = std::size_t(ty.i1 - ty.i0) * w,
+                      dz = std::size_t(tz.i1 - tz.i0) * wh;
+    const auto slice = [&](const uint8_t* q) {
+        const uint8_t r0 = lerp_unorm8(tx.weight, q[0], q[dx], kRounds);
+        const uint8_t r1 = lerp_unorm8(tx.weight, q[dy], q[dy + dx], kRounds);
+        return lerp_unorm8(ty.weight, r0, r1, kRounds);
+    };
+    return unorm8_to_float(lerp_unorm8(tz.weight, slice(p), slice(p + dz), kRounds));
+}
+
 glm::vec4 sample_any(const TextureView& tex, const float* coord, int dims, TextureFilter filter,
                      const LlvmpipeCpu& cpu)
 {
+    if (dims == 3 && tex.channels == 1 && tex.format == TexelFormat::u8 && filter == TextureFilter::linear) {
+        const float r =
+            cpu.lerp8_rounds ? sample_linear_r8_3d<true>(tex, coord) : sample_linear_r8_3d<false>(tex, coord);
+        return {r, unorm8_to_float(0), unorm8_to_float(0), unorm8_to_float(255)};
+    }
     if (takes_linear_f32x4_fma(tex, filter, cpu)) return sample_linear_f32x4_fma(tex, coord, dims);
     if (filter == TextureFilter::nearest) return sample_nearest(tex, coord, dims);
     if (sample_path(tex.format) == SamplePath::aos_unorm8) return sample_linear_aos(tex, coord, dims, cpu);
@@ -196,11 +221,13 @@ int32_t x86_cvtt(float x)
     return static_cast<int32_t>(x);
 }
 
+#if !UVR_X86_CVT_INSTRUCTION
 int32_t x86_cvt_rne(float x)
 {
     if (!(x >= -2147483648.0f && x < 2147483648.0f)) return kIntegerIndefinite;
     return static_cast<int32_t>(round_half_even(x));  // floats above 2^23 are integers: no rounding out of range
 }
+#endif
 
 /*
  * unorm -> float. lp_build_unsigned_norm_to_float, branch "src_width <= mantissa + 1": the integer is converted
@@ -306,33 +333,6 @@ int32_t wrap_nearest_aos(float coord, int size)
     const float c = coord * static_cast<float>(size);
     const int32_t i = x86_cvtt(std::floor(c));
     return std::min(std::max(i, int32_t(0)), int32_t(size - 1));
-}
-
-/*
- * AoS linear, CLAMP_TO_EDGE (lp_build_sample_image_linear + lp_build_sample_wrap_linear_int, block length 1):
- *   c = coord * float(size << 8)            the size pre-scaled by 256 as an integer, converted exactly; one rounding
- *   v = iround(c)                           lp_build_iround -> cvtps2dq: nearest-even, 0x80000000 on NaN / overflow
- *   v = v - 128                             "subtract 0.5" in 24.8 fixed point; 32-bit wrap-around
- *   i = v >> 8 (arithmetic), w8 = v & 255   floor and 8-bit fraction
- *   lmask = i >= 0, umask = i < size - 1
- *   i0 = lmask ? i : 0;  i0 = umask ? i0 : size - 1
- *   i1 = i0 + (lmask && umask ? 1 : 0)      the second texel's offset adds the stride only inside the texture
- * The weight is not clamped: outside, both taps are the same texel, so any weight returns it. NaN or |c| >= 2^31
- * gives v = 0x7fffff80 after the wrap, i.e. the last texel, also for huge negative coordinates.
- */
-LinearTaps8 wrap_linear_aos(float coord, int size)
-{
-    const float c = coord * static_cast<float>(size << 8);
-    const int32_t v = static_cast<int32_t>(static_cast<uint32_t>(x86_cvt_rne(c)) - 128u);
-    const int32_t i = v >> 8;
-    const bool lmask = i >= 0;
-    const bool umask = i < size - 1;
-    LinearTaps8 taps;
-    taps.weight = static_cast<uint32_t>(v) & 0xffu;
-    taps.i0 = lmask ? i : 0;
-    taps.i0 = umask ? taps.i0 : size - 1;
-    taps.i1 = taps.i0 + (lmask && umask ? 1 : 0);
-    return taps;
 }
 
 SamplePath sample_path(TexelFormat f)

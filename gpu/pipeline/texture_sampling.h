@@ -11,6 +11,10 @@
 #include <cstddef>
 #include <cstdint>
 
+#if defined(__x86_64__) || defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
 #include <glm/vec4.hpp>
 #include "reference/choice.h"
 
@@ -53,7 +57,18 @@ LlvmpipeCpu host_llvmpipe_cpu();
 // 0x80000000. LLVM's fptosi on a <N x float> vector compiles to this instruction on x86.
 int32_t x86_cvtt(float x);
 // x86 cvtps2dq in the default MXCSR mode: round to nearest, ties to even; NaN and out of range give 0x80000000.
+// On x86 it is the scalar instruction itself (cvtss2si), in the rounding mode uvr never changes (its float arithmetic,
+// like the JIT code it emulates, assumes round to nearest); elsewhere the same rule in integers (texture_sampling.cpp).
+#if defined(__x86_64__) || defined(__SSE__)
+#define UVR_X86_CVT_INSTRUCTION 1
+inline int32_t x86_cvt_rne(float x)
+{
+    return _mm_cvtss_si32(_mm_set_ss(x));
+}
+#else
+#define UVR_X86_CVT_INSTRUCTION 0
 int32_t x86_cvt_rne(float x);
+#endif
 
 // The unorm -> float conversion llvmpipe generates (lp_build_unsigned_norm_to_float for widths <= 24 bits):
 // sitofp, then one float multiply by the float nearest 1/(2^n - 1). Not always the float nearest i / (2^n - 1).
@@ -84,7 +99,33 @@ struct LinearTaps8 {  // AoS 8-bit path
 };
 int32_t wrap_nearest_soa(float coord, int size);
 int32_t wrap_nearest_aos(float coord, int size);
-LinearTaps8 wrap_linear_aos(float coord, int size);
+
+/*
+ * AoS linear, CLAMP_TO_EDGE (lp_build_sample_image_linear + lp_build_sample_wrap_linear_int, block length 1):
+ *   c = coord * float(size << 8)            the size pre-scaled by 256 as an integer, converted exactly; one rounding
+ *   v = iround(c)                           lp_build_iround -> cvtps2dq: nearest-even, 0x80000000 on NaN / overflow
+ *   v = v - 128                             "subtract 0.5" in 24.8 fixed point; 32-bit wrap-around
+ *   i = v >> 8 (arithmetic), w8 = v & 255   floor and 8-bit fraction
+ *   lmask = i >= 0, umask = i < size - 1
+ *   i0 = lmask ? i : 0;  i0 = umask ? i0 : size - 1
+ *   i1 = i0 + (lmask && umask ? 1 : 0)      the second texel's offset adds the stride only inside the texture
+ * The weight is not clamped: outside, both taps are the same texel, so any weight returns it. NaN or |c| >= 2^31
+ * gives v = 0x7fffff80 after the wrap, i.e. the last texel, also for huge negative coordinates.
+ */
+inline LinearTaps8 wrap_linear_aos(float coord, int size)
+{
+    const float c = coord * static_cast<float>(size << 8);
+    const int32_t v = static_cast<int32_t>(static_cast<uint32_t>(x86_cvt_rne(c)) - 128u);
+    const int32_t i = v >> 8;
+    const bool lmask = i >= 0;
+    const bool umask = i < size - 1;
+    LinearTaps8 taps;
+    taps.weight = static_cast<uint32_t>(v) & 0xffu;
+    taps.i0 = lmask ? i : 0;
+    taps.i0 = umask ? taps.i0 : size - 1;
+    taps.i1 = taps.i0 + (lmask && umask ? 1 : 0);
+    return taps;
+}
 
 /*
  * SoA linear, CLAMP_TO_EDGE (lp_build_sample_wrap_linear, not gather):
