@@ -106,10 +106,11 @@ void VicpRenderer::composite_exact_coverage(const VicpFrameConstants& fc, const 
 // distance from the eye (the ordering-error diagnostic's) is the interpolated entry point's
 // (vicp_published_entry_distance); the wrong-exit and length diagnostics compare with the exact variant's segment,
 // which only the emulation computes.
+template <class Shade>
 void VicpRenderer::composite_published(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot,
                                        const VicpPublishedView& view, const std::vector<SetupVertex>& setup,
-                                       const TileRect& tile, ViewportArithmetic arith, const SegmentShader& shade,
-                                       int width, std::vector<glm::vec4>& fb, std::vector<VicpDiagnostics>& diag,
+                                       const TileRect& tile, ViewportArithmetic arith, const Shade& shade, int width,
+                                       std::vector<glm::vec4>& fb, std::vector<VicpDiagnostics>& diag,
                                        std::vector<uint32_t>& wrong_exits, std::vector<float>& length_error) const
 {
     const Framebuffer fbuf{fs.width, fs.height, RenderTarget::fbo};
@@ -277,6 +278,7 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
     st.setup_ms = fs.vertex_ms + ms_since(t0);
     const SegmentShader shade =
         segment_shader(mesh_.table(), mesh_.options().filter, mesh_.integrator(), mesh_.range());
+    const std::optional<TableSegmentShader> table_path = table_segment_shader(mesh_.table(), mesh_.options().filter);
     const std::size_t npix = std::size_t(width) * std::size_t(height);
     std::vector<glm::vec4> fb(npix, glm::vec4(0.0f));
     std::vector<VicpDiagnostics> diag(diagnostics_ ? npix : 0);
@@ -302,6 +304,9 @@ VicpFrame VicpRenderer::render(const Camera& cam, int width, int height) const
             // The cells the view cuts are drawn by the exact variant in both modes: the published vertex program
             // cannot give a clipped face's new vertices or a near section their distances (docs/vicp.md, "The cells
             // a view cuts, with the published program").
+            else if (published && cut == kWholeCell && table_path)
+                composite_published(fc, fs, slot, published_view, setup, tile, arith, *table_path, width, fb, diag,
+                                    wrong_exits, length_error);
             else if (published && cut == kWholeCell)
                 composite_published(fc, fs, slot, published_view, setup, tile, arith, shade, width, fb, diag,
                                     wrong_exits, length_error);

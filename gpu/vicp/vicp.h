@@ -66,11 +66,12 @@ private:
     VicpMesh mesh_;
     bool diagnostics_ = true;
 
+    template <class Shade>  // SegmentShader, or the table's TableSegmentShader
     void composite_published(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot,
                              const VicpPublishedView& view, const std::vector<SetupVertex>& setup, const TileRect& tile,
-                             ViewportArithmetic arith, const SegmentShader& shade, int width,
-                             std::vector<glm::vec4>& fb, std::vector<VicpDiagnostics>& diag,
-                             std::vector<uint32_t>& wrong_exits, std::vector<float>& length_error) const;
+                             ViewportArithmetic arith, const Shade& shade, int width, std::vector<glm::vec4>& fb,
+                             std::vector<VicpDiagnostics>& diag, std::vector<uint32_t>& wrong_exits,
+                             std::vector<float>& length_error) const;
     void composite_exact_coverage(const VicpFrameConstants& fc, const VicpFrameSetup& fs, uint32_t slot, bool cut,
                                   const TileRect& tile, const SegmentShader& shade, int width, std::vector<glm::vec4>& fb,
                                   std::vector<VicpDiagnostics>& diag) const;

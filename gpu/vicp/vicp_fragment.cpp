@@ -78,33 +78,4 @@ VicpSegment vicp_fragment_values(const VicpFrameConstants& fc, const VicpTet& te
     return out;
 }
 
-bool vicp_composite(const VicpFrameConstants& fc, const VicpSegment& seg, glm::vec4& fb, const SegmentShader& shade,
-                    VicpDiagnostics* diag)
-{
-    // KIL (threshold - alpha), as HAVS.
-    if (fc.threshold - fb.a < 0.0f) return false;
-    const float length = float(seg.length);
-    glm::vec4 c(0.0f);
-    if (length > 0.0f) {
-        const float t_z = length * fc.length_scale + fc.length_bias;
-        c = shade(float(seg.s_front), float(seg.s_back), t_z, length);
-    }
-    if (diag) {
-        ++diag->fragments;
-        if (length > 0.0f) {
-            const float front = float(seg.t_in), back = float(seg.t_out);
-            if (back <= diag->last_front) ++diag->ordering_errors;
-            if (back > diag->last_back) {
-                diag->last_back = back;
-                diag->last_front = front;
-            }
-        }
-    }
-    // Front to back: fb = c * (1 - fb.a) + fb, per channel (MAD, unfused).
-    const float one_minus_a = 1.0f - fb.a;
-    fb = glm::vec4(c.r * one_minus_a + fb.r, c.g * one_minus_a + fb.g, c.b * one_minus_a + fb.b,
-                   c.a * one_minus_a + fb.a);
-    return true;
-}
-
 }  // namespace uvr::gpu

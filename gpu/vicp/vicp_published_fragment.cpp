@@ -33,11 +33,11 @@ VicpPublishedPlanes vicp_published_planes(const SetupVertex sv[3], const VicpPub
     for (int c = 0; c < 3; ++c) {
         const float d[3] = {v[0].distance[c], v[1].distance[c], v[2].distance[c]};
         const float x[3] = {v[0].scalar[c], v[1].scalar[c], v[2].scalar[c]};
-        p.distance[c] = attribute_plane(p.setup, sv, d, Qualifier::smooth);
-        p.scalar[c] = attribute_plane(p.setup, sv, x, Qualifier::smooth);
+        p.varying[p.kDistance + c] = attribute_plane(p.setup, sv, d, Qualifier::smooth);
+        p.varying[p.kScalar + c] = attribute_plane(p.setup, sv, x, Qualifier::smooth);
     }
     const float s[3] = {v[0].s, v[1].s, v[2].s};
-    p.s = attribute_plane(p.setup, sv, s, Qualifier::smooth);
+    p.varying[p.kS] = attribute_plane(p.setup, sv, s, Qualifier::smooth);
     return p;
 }
 
@@ -49,12 +49,14 @@ VicpPublishedVaryings vicp_published_varyings_at(const VicpPublishedPlanes& p, i
 VicpPublishedVaryings vicp_published_varyings_at(const VicpPublishedPlanes& p, int px, int py, float factor,
                                                  ViewportArithmetic arith)
 {
+    float at[VicpPublishedPlanes::kCount];
+    interpolate(p.varying, VicpPublishedPlanes::kCount, Qualifier::smooth, px, py, factor, arith, at);
     VicpPublishedVaryings v;
     for (int c = 0; c < 3; ++c) {
-        v.distance[c] = interpolate(p.distance[c], Qualifier::smooth, px, py, factor, arith);
-        v.scalar[c] = interpolate(p.scalar[c], Qualifier::smooth, px, py, factor, arith);
+        v.distance[c] = at[p.kDistance + c];
+        v.scalar[c] = at[p.kScalar + c];
     }
-    v.s = interpolate(p.s, Qualifier::smooth, px, py, factor, arith);
+    v.s = at[p.kS];
     return v;
 }
 

@@ -37,7 +37,9 @@ VicpPublishedExit vicp_published_exit(const VicpPublishedVaryings& v);
 // program.
 struct VicpPublishedPlanes {
     AttributeSetup setup;
-    AttributePlane distance[3], scalar[3], s;
+    // The fragment's smooth inputs in one array, interpolated in one call: distance[0..2], scalar[0..2], s.
+    static constexpr int kDistance = 0, kScalar = 3, kS = 6, kCount = 7;
+    AttributePlane varying[kCount];
 };
 VicpPublishedPlanes vicp_published_planes(const SetupVertex sv[3], const VicpPublishedVaryings v[3],
                                           const TriangleSetup& ts);
