@@ -194,22 +194,30 @@ RaycastResult raycast_march(const RaycastFrameConstants& fc, const RaycastRay& r
         return out;
     }
     if (n == 0) return out;
-    float previous = scalar(position(0));
-    out.samples = 1;
-    for (int k = 1; k <= n; ++k) {
-        const bool last = k == n;
-        const glm::vec3 p = last ? ray.tex_exit : position(k);
-        const float length = last ? ray.last_length : fc.step_f;
-        const float x = scalar(p);
-        ++out.samples;
-        if (length > 0.0f) {
-            const float t_z = length * fc.length_scale + fc.length_bias;
-            const glm::vec4 c = shaded(tex.segment(previous, x, t_z, length), p, last ? ray.length : double(k) * fc.step);
-            composite(acc, c);
+    // `segment` a SegmentShader or the table's plain TableSegmentShader: the same values.
+    const auto march = [&](const auto& segment) {
+        float previous = scalar(position(0));
+        out.samples = 1;
+        for (int k = 1; k <= n; ++k) {
+            const bool last = k == n;
+            const glm::vec3 p = last ? ray.tex_exit : position(k);
+            const float length = last ? ray.last_length : fc.step_f;
+            const float x = scalar(p);
+            ++out.samples;
+            if (length > 0.0f) {
+                const float t_z = length * fc.length_scale + fc.length_bias;
+                const glm::vec4 c =
+                    shaded(segment(previous, x, t_z, length), p, last ? ray.length : double(k) * fc.step);
+                composite(acc, c);
+            }
+            previous = x;
+            if (acc.a > fc.threshold) break;
         }
-        previous = x;
-        if (acc.a > fc.threshold) break;
-    }
+    };
+    if (tex.table_segment)
+        march(*tex.table_segment);
+    else
+        march(tex.segment);
     return out;
 }
 

@@ -14,6 +14,8 @@
 #include <glm/vec4.hpp>
 
 #include "gpu/raycast/classification_table.h"
+#include <optional>
+
 #include "gpu/pipeline/segment.h"
 #include "gpu/pipeline/pixel_rays.h"
 #include "gpu/pipeline/texture_sampling.h"
@@ -84,6 +86,7 @@ struct RaycastTextures {
     TextureView volume;                         // one channel, R8 / R16 / R32F
     const ClassificationTable* classification = nullptr;
     SegmentShader segment;                      // pre-integration (table as llvmpipe samples it, or exact)
+    std::optional<TableSegmentShader> table_segment;  // segment's usual path as a plain call, where it is one
     LlvmpipeCpu cpu;
 };
 

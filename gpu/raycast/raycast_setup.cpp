@@ -167,8 +167,10 @@ RaycastTextures raycast_textures(const RaycastVolume& rv)
     t.volume = rv.view();
     t.classification = rv.classification();
     t.cpu = host_llvmpipe_cpu();
-    if (rv.options().preintegrate)
+    if (rv.options().preintegrate) {
         t.segment = segment_shader(rv.table(), TextureFilter::linear, rv.integrator(), rv.table_range());
+        t.table_segment = table_segment_shader(rv.table(), TextureFilter::linear);
+    }
     return t;
 }
 
