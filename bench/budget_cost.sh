@@ -4,7 +4,7 @@
 # `uvr render` of the default configuration, each timed as a whole process (both load the scene; the reference comes
 # from the cache, filled before the first round); the ratio is taken within a round and its median reported.
 #   bash bench/budget_cost.sh                 # HAVS and VICP on Blunt Fin 512², the ray caster on neghip 512²
-# Environment: ROUNDS (default 5), SIZE (default 512x512).
+# Environment: ROUNDS (default 5), SIZE (default 512x512), ALGOS (default "havs vicp raycast").
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 uvr="$here/build/bench/uvr"
@@ -22,7 +22,7 @@ nanoseconds() {  # COMMAND...: the wall time of one run
   "$@" > /dev/null || true  # a budget whose baseline check fails exits 1 after its work: it is timed all the same
   echo $(($(date +%s%N) - t0))
 }
-for a in havs vicp raycast; do
+for a in ${ALGOS:-havs vicp raycast}; do
   # shellcheck disable=SC2086
   "$uvr" render ${scenes[$a]} --size "$size" --algo reference --out "$dir/ref.npy" > /dev/null  # fills the cache
   for r in $(seq 1 "$rounds"); do
