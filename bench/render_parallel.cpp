@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <optional>
 
 #include <nlohmann/json.hpp>
@@ -136,8 +137,8 @@ void render_sort_last_parallel(const SceneOptions& o, const std::string& algo, c
     const auto start = Clock::now();
     mpi::RankStats st;
     const Scene s = rank_scene(o, st);
-    // Each piece this rank holds is a part: rendered on its own, sent to rank 0 with its box as
-    // [piece (uint32), box (6 doubles), image (width x height x 4 floats)].
+    // Each piece this rank holds is a part: rendered on its own, sent to rank 0 with its box and its stats as
+    // [piece (uint32), box (6 doubles), image (width x height x 4 floats), stats' length (uint32), stats (JSON text)].
     const auto t_render = Clock::now();
     std::vector<char> mine;
     mpi::on_every_rank([&] {
@@ -151,9 +152,13 @@ void render_sort_last_parallel(const SceneOptions& o, const std::string& algo, c
             const auto put = [&](const void* p, std::size_t n) {
                 mine.insert(mine.end(), static_cast<const char*>(p), static_cast<const char*>(p) + n);
             };
+            const std::string stats = r.stats.dump();
+            const uint32_t stats_bytes = uint32_t(stats.size());
             put(&piece, sizeof piece);
             put(&box, sizeof box);
             put(r.image.rgba.data(), r.image.rgba.size() * sizeof(float));
+            put(&stats_bytes, sizeof stats_bytes);
+            put(stats.data(), stats.size());
         }
     });
     st.trace.seconds = ms_since(t_render) / 1000.0;
@@ -168,15 +173,24 @@ void render_sort_last_parallel(const SceneOptions& o, const std::string& algo, c
     std::vector<uint32_t> piece_ids;
     std::vector<Bounds> boxes;
     std::vector<Image> images;
+    std::map<uint32_t, nlohmann::json> stats_of_piece;  // in piece order, whichever rank rendered it
     const std::size_t image_bytes = std::size_t(s.width) * std::size_t(s.height) * 4 * sizeof(float);
     for (const std::vector<char>& bytes : all)
-        for (std::size_t at = 0; at < bytes.size(); at += sizeof(uint32_t) + sizeof(Bounds) + image_bytes) {
-            uint32_t piece = 0;
+        for (std::size_t at = 0; at < bytes.size();) {
+            uint32_t piece = 0, stats_bytes = 0;
             Bounds box;
             Image image(s.width, s.height);
-            std::memcpy(&piece, bytes.data() + at, sizeof piece);
-            std::memcpy(&box, bytes.data() + at + sizeof piece, sizeof box);
-            std::memcpy(image.rgba.data(), bytes.data() + at + sizeof piece + sizeof box, image_bytes);
+            const auto take = [&](void* to, std::size_t n) {
+                std::memcpy(to, bytes.data() + at, n);
+                at += n;
+            };
+            take(&piece, sizeof piece);
+            take(&box, sizeof box);
+            take(image.rgba.data(), image_bytes);
+            take(&stats_bytes, sizeof stats_bytes);
+            stats_of_piece[piece] = nlohmann::json::parse(bytes.begin() + std::ptrdiff_t(at),
+                                                          bytes.begin() + std::ptrdiff_t(at + stats_bytes));
+            at += stats_bytes;
             piece_ids.push_back(piece);
             boxes.push_back(box);
             images.push_back(std::move(image));
@@ -187,9 +201,20 @@ void render_sort_last_parallel(const SceneOptions& o, const std::string& algo, c
     if (!json) return;
     nlohmann::json pieces_back_to_front = nlohmann::json::array();
     for (uint32_t i : order) pieces_back_to_front.push_back(piece_ids[i]);
-    nlohmann::json j = {{"algo", algo},     {"backend", ao.backend}, {"out", out},
-                        {"width", s.width}, {"height", s.height},    {"seconds", ms_since(start) / 1000.0}};
-    j["sort_last"] = {{"parts", piece_ids.size()}, {"order", pieces_back_to_front}, {"separated", separated}};
+    // The parts' stats merged as the one-process sort-last merges them (bench/sort_last.h), then this run's own.
+    std::vector<nlohmann::json> part_stats;
+    for (auto& [piece, stats] : stats_of_piece) part_stats.push_back(std::move(stats));
+    nlohmann::json j = merge_part_stats(part_stats);
+    j.update({{"algo", algo},
+              {"backend", ao.backend},
+              {"out", out},
+              {"width", s.width},
+              {"height", s.height},
+              {"seconds", ms_since(start) / 1000.0}});
+    j["sort_last"] = {{"parts", piece_ids.size()},
+                      {"order", pieces_back_to_front},
+                      {"separated", separated},
+                      {"part_stats", part_stats}};
     j["ranks"] = nlohmann::json::array();
     for (const mpi::RankStats& r : ranks)
         j["ranks"].push_back(

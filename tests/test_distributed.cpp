@@ -247,14 +247,21 @@ TEST_CASE("mpirun: sort-last HAVS and VICP over the pieces equal the one-process
     for (const std::string algo : {"havs", "vicp"}) {
         const std::string common = " --algo " + algo + " --size 80x64 --view 30,20 --out ";
         const std::string one = dir.file(algo + "-one.npy"), ranks = dir.file(algo + "-ranks.npy");
-        REQUIRE(test::run_uvr("render builtin:torus-small --parts 4" + common + quoted(one)).exit_code == 0);
+        const CommandResult o =
+            test::run_uvr("render builtin:torus-small --parts 4" + common + quoted(one) + " --json");
+        REQUIRE(o.exit_code == 0);
         const CommandResult r = run_ranks(3, "render " + quoted(pvtu) + common + quoted(ranks) + " --json");
         INFO(algo << "\n" << r.err);
         REQUIRE(r.exit_code == 0);
-        const nlohmann::json j = nlohmann::json::parse(r.out);
+        const nlohmann::json j = nlohmann::json::parse(r.out), j_one = nlohmann::json::parse(o.out);
         CHECK(j["sort_last"]["parts"] == 4);
         CHECK(j["sort_last"]["separated"] == true);
         CHECK(j["ranks"].size() == 3u);
+        // The parts' counts merged as the one-process run merges them: the same parts, the same fragments.
+        CHECK(j["sort_last"]["part_stats"].size() == 4u);
+        CHECK(j["fragments"] == j_one["fragments"]);
+        CHECK(j["max_fragments_per_pixel"] == j_one["max_fragments_per_pixel"]);
+        if (algo == "vicp") CHECK(j["cells"] == j_one["cells"]);
         const Image a = read_npy(one), b = read_npy(ranks);
         CHECK(diff(a, b).covered > 500);
         CHECK(a.rgba == b.rgba);
