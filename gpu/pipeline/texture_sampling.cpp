@@ -137,14 +137,16 @@ float sample_linear_r8_3d(const TextureView& tex, const float* coord)
     return unorm8_to_float(lerp_unorm8(tz.weight, slice(p), slice(p + dz), kRounds));
 }
 
+// The one-channel 8-bit volume's linear lookup as sample_3d returns it (green and blue 0, alpha 1).
+glm::vec4 sample_r8(const TextureView& tex, const float* coord, const LlvmpipeCpu& cpu)
+{
+    const float r = cpu.lerp8_rounds ? sample_linear_r8_3d<true>(tex, coord) : sample_linear_r8_3d<false>(tex, coord);
+    return {r, unorm8_to_float(0), unorm8_to_float(0), unorm8_to_float(255)};
+}
+
 glm::vec4 sample_any(const TextureView& tex, const float* coord, int dims, TextureFilter filter,
                      const LlvmpipeCpu& cpu)
 {
-    if (dims == 3 && tex.channels == 1 && tex.format == TexelFormat::u8 && filter == TextureFilter::linear) {
-        const float r =
-            cpu.lerp8_rounds ? sample_linear_r8_3d<true>(tex, coord) : sample_linear_r8_3d<false>(tex, coord);
-        return {r, unorm8_to_float(0), unorm8_to_float(0), unorm8_to_float(255)};
-    }
     if (takes_linear_f32x4_fma(tex, filter, cpu)) return sample_linear_f32x4_fma(tex, coord, dims);
     if (filter == TextureFilter::nearest) return sample_nearest(tex, coord, dims);
     if (sample_path(tex.format) == SamplePath::aos_unorm8) return sample_linear_aos(tex, coord, dims, cpu);
@@ -358,6 +360,8 @@ glm::vec4 sample_2d(const TextureView& tex, float s, float t, TextureFilter filt
 glm::vec4 sample_3d(const TextureView& tex, float s, float t, float r, TextureFilter filter, const LlvmpipeCpu& cpu)
 {
     const float coord[3] = {s, t, r};
+    if (tex.channels == 1 && tex.format == TexelFormat::u8 && filter == TextureFilter::linear)
+        return sample_r8(tex, coord, cpu);
     return sample_any(tex, coord, 3, filter, cpu);
 }
 
