@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "gpu/pipeline/llvmpipe_cpu.h"
+#include "gpu/pipeline/texture_sampling.h"  // x86_cvt_rne
 
 namespace uvr::gpu {
 
@@ -86,9 +87,7 @@ int32_t snap_to_fixed(float v)
     // the multiplication by 256 is exact unless it overflows. cvtps rounds with the MXCSR mode, round to nearest even
     // by default (the draw module only sets DAZ/FTZ, not the rounding mode); the scalar subpixel_snap() with
     // util_iround, which rounds half away from zero, is only the fallback for non-SSE builds.
-    const float f = (v - 0.5f) * float(kFixedOne);
-    if (!(f >= -2147483648.0f && f < 2147483648.0f)) return INT32_MIN;  // cvtps: NaN and overflow give 0x80000000
-    return static_cast<int32_t>(std::nearbyint(f));
+    return x86_cvt_rne((v - 0.5f) * float(kFixedOne));  // NaN and overflow give 0x80000000, as cvtps does
 }
 
 namespace {
