@@ -15,9 +15,10 @@ namespace uvr::test {
 // One GL context for the whole program (creating one costs ~50 ms; they are independent of the scene).
 inline gpu::GlContext& osmesa()
 {
-    static gpu::GlContext ctx(gpu::GlPlatform::osmesa);
-    ctx.make_current();
-    return ctx;
+    // Never destroyed, as gl_harness.h's contexts: Mesa's exit handlers may run before a static's destructor.
+    static gpu::GlContext* const ctx = new gpu::GlContext(gpu::GlPlatform::osmesa);
+    ctx->make_current();
+    return *ctx;
 }
 
 // GL's own count of the primitives the draws of `draw()` submitted (GL_PRIMITIVES_SUBMITTED, a pipeline-statistics

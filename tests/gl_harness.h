@@ -22,8 +22,12 @@ struct GlHarness {
 template <typename Harness>
 GlHarness<Harness>& gl_harness(gpu::GlPlatform p)
 {
-    static GlHarness<Harness> osmesa, egl;
-    GlHarness<Harness>& g = p == gpu::GlPlatform::osmesa ? osmesa : egl;
+    // Never destroyed: at exit Mesa's own exit handlers, registered when the first context compiles its first
+    // program (after these statics came to be), run first, and a harness destroyed after them would make its
+    // context current on a torn-down library (a crash after the last test). The process's exit frees both.
+    static GlHarness<Harness>* const osmesa = new GlHarness<Harness>();
+    static GlHarness<Harness>* const egl = new GlHarness<Harness>();
+    GlHarness<Harness>& g = p == gpu::GlPlatform::osmesa ? *osmesa : *egl;
     if (!g.ctx) {
         try {
             g.ctx = std::make_unique<gpu::GlContext>(p);
