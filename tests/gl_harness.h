@@ -22,9 +22,10 @@ struct GlHarness {
 template <typename Harness>
 GlHarness<Harness>& gl_harness(gpu::GlPlatform p)
 {
-    // Never destroyed: at exit Mesa's own exit handlers, registered when the first context compiles its first
-    // program (after these statics came to be), run first, and a harness destroyed after them would make its
-    // context current on a torn-down library (a crash after the last test). The process's exit frees both.
+    // Never destroyed: Mesa registers exit handlers of its own (its work queues' teardown) when the first context is
+    // made, after these statics came to be, so at exit they run first, and a harness destroyed after them made its
+    // context current on a torn-down library (a crash after the last test, in OSMesaMakeCurrent). The process's exit
+    // frees both.
     static GlHarness<Harness>* const osmesa = new GlHarness<Harness>();
     static GlHarness<Harness>* const egl = new GlHarness<Harness>();
     GlHarness<Harness>& g = p == gpu::GlPlatform::osmesa ? *osmesa : *egl;
