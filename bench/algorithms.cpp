@@ -163,8 +163,10 @@ public:
     AlgoResult render(const Camera& camera, int width, int height) override
     {
         AlgoResult r;
-        const std::string key = s_.is_volume() ? std::string()
-                                                : reference_cache_key(s_.mesh(), s_.field, s_.tf, camera, width, height);
+        // The key hashes the whole mesh: only where the cache is used.
+        const std::string key = s_.is_volume() || !use_cache_
+                                    ? std::string()
+                                    : reference_cache_key(s_.mesh(), s_.field, s_.tf, camera, width, height);
         if (use_cache_ && !key.empty()) {  // the cache's key is a mesh's: regular grids are not cached
             if (auto img = cache_load(key, width, height)) {
                 r.image = std::move(*img);
