@@ -89,7 +89,7 @@ if [ -d "$v" ]; then
       "$v/HeadMRVolume.mhd"; bytes "$v/HeadMRVolume.raw" 0 $((48 * 62)); } >"$seeds/mha/HeadMR_slice0.mha"
   # SLC: neghip.slc's first 36 KiB (header, 100x100 icon, the first slices); and its header with no icon and 2 slices, then its RLE slices.
   bytes "$v/neghip.slc" 0 36000 >"$seeds/slc/neghip.36k.slc"
-  x=$(bytes "$v/neghip.slc" 0 200 | grep -abo X | head -1 | cut -d: -f1)
+  x=$(bytes "$v/neghip.slc" 0 200 | grep -abo X | awk -F: 'NR == 1 {print $1}')  # awk reads all: no SIGPIPE
   { printf '11111\n66 66 2 8\n1.000000 1.000000 1.000000\n1 6 0 1\n0 0 X'; bytes "$v/neghip.slc" $((x + 1 + 30000)) 6000; } \
     >"$seeds/slc/neghip_2slices.slc"
   # Raw volumes: a 64x64x1 slice of neghip and a 48x62x1 slice of HeadMRVolume (uint8).

@@ -45,7 +45,8 @@ mkdir -p "$stage/tree/bin" "$stage/tree/lib" "$stage/tree/shaders" "$stage/tree/
 strip --strip-debug -o "$stage/tree/bin/uvr" "$uvr"
 closure "$uvr" | while read -r name path; do cp -L "$path" "$stage/tree/lib/$name"; done
 if [ "$with_mesa" = 1 ]; then
-  osmesa=$(ldconfig -p | awk '$1 == "libOSMesa.so.8" {print $NF; exit}')
+  # awk reads to the end: leaving early could kill ldconfig with SIGPIPE, which pipefail makes this script's exit.
+  osmesa=$(ldconfig -p | awk '$1 == "libOSMesa.so.8" && !found {print $NF; found = 1}')
   [ -n "$osmesa" ] || { echo "gpu-bundle: --with-mesa: no libOSMesa.so.8 here (Debian's libosmesa6)" >&2; exit 1; }
   cp -L "$osmesa" "$stage/tree/lib/libOSMesa.so.8"
   closure "$osmesa" | while read -r name path; do cp -L "$path" "$stage/tree/lib/$name"; done
