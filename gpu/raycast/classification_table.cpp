@@ -44,9 +44,10 @@ TextureView ClassificationTable::view() const
     return v;
 }
 
-glm::vec4 ClassificationTable::sample(float u, const LlvmpipeCpu& cpu) const
+ClassificationTable::Sampler ClassificationTable::sampler(const LlvmpipeCpu& cpu) const
 {
-    return sample_2d(view(), u, 0.5f, TextureFilter::linear, cpu);
+    const TextureView v = view();
+    return {v, cpu, takes_linear_f32x4_fma(v, TextureFilter::linear, cpu)};
 }
 
 }  // namespace uvr::gpu

@@ -30,8 +30,21 @@ public:
     const std::vector<float>& texels() const { return texels_; }  // RGBA, N texels
     TextureView view() const;                          // RGBA32F, N x 1
 
-    // texture(table, vec2(u, 0.5)) as llvmpipe computes it.
-    glm::vec4 sample(float u, const LlvmpipeCpu& cpu) const;
+    // texture(table, vec2(u, 0.5)) as llvmpipe computes it, its path (sample_2d's) chosen once: a march samples the
+    // table every step, and the usual path (RGBA32F, linear, FMA3) is then one direct call.
+    struct Sampler {
+        TextureView view;
+        LlvmpipeCpu cpu;
+        bool fma_path = false;  // takes_linear_f32x4_fma
+        glm::vec4 operator()(float u) const
+        {
+            const float coord[3] = {u, 0.5f, 0.0f};
+            return fma_path ? sample_linear_f32x4_fma(view, coord, 2)
+                            : sample_2d(view, u, 0.5f, TextureFilter::linear, cpu);
+        }
+    };
+    Sampler sampler(const LlvmpipeCpu& cpu) const;
+    glm::vec4 sample(float u, const LlvmpipeCpu& cpu) const { return sampler(cpu)(u); }
 
 private:
     Range range_;

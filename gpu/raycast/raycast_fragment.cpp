@@ -184,13 +184,7 @@ RaycastResult raycast_march(const RaycastFrameConstants& fc, const RaycastRay& r
     };
     glm::vec4& acc = out.colour;
     if (!fc.preintegrate) {
-        // The table's usual path called directly (ClassificationTable::sample decides it per call): the same values.
-        const TextureView table = tex.classification->view();
-        const bool fma_path = takes_linear_f32x4_fma(table, TextureFilter::linear, tex.cpu);
-        const auto classify = [&](float u) {
-            const float coord[3] = {u, 0.5f, 0.0f};
-            return fma_path ? sample_linear_f32x4_fma(table, coord, 2) : tex.classification->sample(u, tex.cpu);
-        };
+        const ClassificationTable::Sampler classify = tex.classification->sampler(tex.cpu);
         for (int k = 0; k < n; ++k) {
             const glm::vec3 p = position(k);
             const glm::vec4 c = shaded(classify(scalar(p)), p, double(k) * fc.step);

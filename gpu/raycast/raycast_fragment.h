@@ -8,14 +8,13 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
 #include "gpu/raycast/classification_table.h"
-#include <optional>
-
 #include "gpu/pipeline/segment.h"
 #include "gpu/pipeline/pixel_rays.h"
 #include "gpu/pipeline/texture_sampling.h"
