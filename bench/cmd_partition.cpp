@@ -2,11 +2,13 @@
 // part (docs/distributed.md).
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
 #include "bench/commands.h"
 #include "bench/options.h"
+#include "bench/scene.h"
 #include "reference/error.h"
 #include "reference/partition.h"
 #include "reference/write_vtk_xml.h"
@@ -16,9 +18,10 @@ namespace uvr::cli {
 namespace {
 
 struct PartitionOptions {
-    InputOptions input;
+    SceneOptions scene;  // the input; the view for --balance view
     uint32_t parts = 0;
-    std::string method = "rcb";  // kPartitionMethods
+    std::string method = "rcb";     // kPartitionMethods
+    std::string balance = "cells";  // kPartitionBalances
     std::string out;
     bool json = false;
 };
@@ -56,34 +59,57 @@ nlohmann::json write_parts(const TetMesh& mesh, const std::vector<uint32_t>& par
     return report;
 }
 
+// Per tetrahedron, its steps in the scene's view, traced by the reference (view_steps): what --balance view balances.
+std::vector<uint64_t> steps_in_view(const Scene& s)
+{
+    const RayIntegrator integrator(s.mesh(), *s.topology, s.field, s.tf);
+    return view_steps(integrator, s.mesh().tets.size(), s.camera, s.width, s.height);
+}
+
 }  // namespace
 
 void register_partition(CLI::App& app)
 {
     auto* cmd = app.add_subcommand("partition", "Split a mesh into parts: DIR/NAME.pvtu and one .vtu piece per part");
     auto o = std::make_shared<PartitionOptions>();
-    add_input_options(*cmd, o->input);
+    add_scene_options(*cmd, o->scene);
     cmd->add_option("--parts", o->parts, "Number of parts (1 to the number of tetrahedra)")->required();
     cmd->add_option("--method", o->method, choices_help(kPartitionMethods))->capture_default_str();
+    cmd->add_option("--balance", o->balance, choices_help(kPartitionBalances))->capture_default_str();
     cmd->add_option("--out", o->out, "Output directory")->required();
     cmd->add_flag("--json", o->json, "Print the parts as one JSON object on stdout");
-    cmd->callback([o] {
+    cmd->callback([o, cmd] {
         const PartitionMethod method = parse_choice("--method", kPartitionMethods, o->method);
-        const Dataset d = load_input(o->input);
-        if (!d.mesh) throw InputError(o->input.path, "uvr partition splits tetrahedral meshes, not regular grids");
+        const PartitionBalance balance = parse_choice("--balance", kPartitionBalances, o->balance);
+        if (balance == PartitionBalance::cells)
+            for (const char* view_option : {"--tf", "--camera", "--view", "--size"})
+                if (cmd->count(view_option) > 0)
+                    throw InputError("", std::string(view_option) + " sets the view that --balance view balances for");
+        Dataset d = load_input(o->scene.input);
+        if (!d.mesh)
+            throw InputError(o->scene.input.path, "uvr partition splits tetrahedral meshes, not regular grids");
         print_warnings(d);
-        const std::vector<uint32_t> part_of = partition_mesh(*d.mesh, o->parts, method);
+        std::optional<Scene> view;  // holds the mesh from here on where it is set
+        std::vector<uint64_t> steps;
+        if (balance == PartitionBalance::view) {
+            view.emplace(setup_scene(std::move(d), o->scene));
+            steps = steps_in_view(*view);
+        }
+        const TetMesh& mesh = view ? view->mesh() : *d.mesh;
+        const std::vector<uint32_t> part_of = partition_mesh(mesh, o->parts, method, view ? &steps : nullptr);
         std::error_code ec;
         std::filesystem::create_directories(o->out, ec);
         if (ec) throw InputError(o->out, "cannot create the directory: " + ec.message());
-        const std::string name = output_name(o->input.path);
-        const nlohmann::json parts = write_parts(*d.mesh, part_of, o->parts, o->out, name);
-        const nlohmann::json j = {{"file", o->out + "/" + name + ".pvtu"}, {"method", o->method}, {"parts", parts}};
+        const std::string name = output_name(o->scene.input.path);
+        const nlohmann::json parts = write_parts(mesh, part_of, o->parts, o->out, name);
+        const nlohmann::json j = {
+            {"file", o->out + "/" + name + ".pvtu"}, {"method", o->method}, {"balance", o->balance}, {"parts", parts}};
         if (o->json) {
             std::printf("%s\n", j.dump(1).c_str());
             return;
         }
-        std::printf("%s: %u parts by %s\n", j["file"].get<std::string>().c_str(), o->parts, o->method.c_str());
+        std::printf("%s: %u parts by %s, balancing %s\n", j["file"].get<std::string>().c_str(), o->parts,
+                    o->method.c_str(), o->balance.c_str());
         for (const auto& p : parts)
             std::printf("  %-24s %zu tetrahedra, %zu points\n", p["piece"].get<std::string>().c_str(),
                         p["tetrahedra"].get<std::size_t>(), p["points"].get<std::size_t>());

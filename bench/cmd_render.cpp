@@ -60,8 +60,12 @@ void register_render(CLI::App& app)
     cmd->callback([a] {
         // Fail on an unknown output format before spending time on the render.
         const std::string ext = file_extension(a->out);
-        if (ext != ".npy" && ext != ".exr" && ext != ".png")
-            throw InputError(a->out, "unsupported image extension (use .npy, .exr or .png)");
+        if (ext != ".npy" && ext != ".exr" && ext != ".png") {
+            const std::string why = "unsupported image extension (use .npy, .exr or .png)";
+            // Every rank sees the same arguments: one message from rank 0 and every rank's exit 1, not an abort.
+            if (mpi::active()) throw mpi::RanksFailed(a->out, why);
+            throw InputError(a->out, why);
+        }
         if (mpi::active()) {
             if (a->algo != "reference" && a->algo != "havs" && a->algo != "vicp")
                 throw mpi::RanksFailed("", "under mpirun, uvr render runs --algo reference, havs or vicp; --algo " +

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
@@ -37,6 +38,30 @@ Ray camera_ray(const Camera& cam, int width, int height, double i, double j)
     }
     const double t = std::tan(0.5 * radians(cam.fovy_deg));
     return {cam.eye, glm::normalize(fr.f + x * t * aspect * fr.r + y * t * fr.u)};
+}
+
+PixelRect pixels_covering(const Camera& cam, int width, int height, const Bounds& b)
+{
+    const PixelRect whole{0, 0, width, height};
+    const CameraFrame fr = camera_frame(cam);
+    const double aspect = double(width) / double(height);
+    // Half the image's extent at unit distance (perspective) or in world units (orthographic): camera_ray's x, y.
+    const double half_h = cam.orthographic ? 0.5 * cam.ortho_height : std::tan(0.5 * radians(cam.fovy_deg));
+    double lo_i = std::numeric_limits<double>::infinity(), hi_i = -lo_i, lo_j = lo_i, hi_j = -lo_i;
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 p((c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y, (c & 4) ? b.hi.z : b.lo.z);
+        const glm::dvec3 v = p - cam.eye;
+        const double z = cam.orthographic ? 1.0 : glm::dot(v, fr.f);
+        if (!(z > 0.0)) return whole;
+        const double x = glm::dot(v, fr.r) / (z * half_h * aspect), y = glm::dot(v, fr.u) / (z * half_h);
+        const double i = 0.5 * (x + 1.0) * width - 0.5, j = 0.5 * (1.0 - y) * height - 0.5;
+        lo_i = std::min(lo_i, i), hi_i = std::max(hi_i, i), lo_j = std::min(lo_j, j), hi_j = std::max(hi_j, j);
+    }
+    if (!(std::isfinite(lo_i) && std::isfinite(hi_i) && std::isfinite(lo_j) && std::isfinite(hi_j))) return whole;
+    const auto clamp = [](double v, int n) { return int(std::clamp(v, 0.0, double(n))); };
+    PixelRect r{clamp(std::floor(lo_i) - 1.0, width), clamp(std::floor(lo_j) - 1.0, height),
+                clamp(std::ceil(hi_i) + 2.0, width), clamp(std::ceil(hi_j) + 2.0, height)};
+    return r;
 }
 
 void validate_camera(const Camera& cam, const std::string& file)

@@ -32,6 +32,15 @@ CameraFrame camera_frame(const Camera& cam);
 // Pixel (i, j): column i from the left, row j from the top, through the pixel centre.
 Ray camera_ray(const Camera& cam, int width, int height, double i, double j);
 
+// The pixels whose rays (camera_ray) can meet the box b: columns [x0, x1), rows [y0, y1), possibly empty. The whole
+// image where a corner of the box is not in front of a perspective camera's eye (the eye beside or inside the box);
+// otherwise the box of the corners' projections widened by one pixel on each side, more than any rounding of a
+// projection moves it.
+struct PixelRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+PixelRect pixels_covering(const Camera& cam, int width, int height, const Bounds& b);
+
 // JSON {"eye", "target", "up", "fovy_deg", "projection", "ortho_height"}. Throws InputError naming the file: missing or
 // non-finite vectors, eye == target, up parallel to the view direction, fovy outside (0, 180), ortho_height <= 0.
 Camera load_camera(const std::string& path);

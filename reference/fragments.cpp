@@ -19,8 +19,10 @@ std::vector<Fragment> trace_fragments(const RayIntegrator& integrator, const Cam
 {
     const auto t0 = std::chrono::steady_clock::now();
     // 16x16 tiles, as render_reference: neighbouring rays walk the same cells. Each tile keeps its own fragments.
+    // Only the pixels whose rays can meet the part's bounds are traced: the others have no runs.
+    const PixelRect rect = pixels_covering(camera, width, height, integrator.bounds());
     constexpr int kTile = 16;
-    const int tiles_x = (width + kTile - 1) / kTile, tiles_y = (height + kTile - 1) / kTile;
+    const int tiles_x = (rect.x1 - rect.x0 + kTile - 1) / kTile, tiles_y = (rect.y1 - rect.y0 + kTile - 1) / kTile;
     std::vector<std::vector<Fragment>> per_tile(std::size_t(tiles_x) * std::size_t(tiles_y));
     std::atomic<uint64_t> segments{0}, entries{0}, failures{0};
     tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const tbb::blocked_range2d<int>& r) {
@@ -29,8 +31,8 @@ std::vector<Fragment> trace_fragments(const RayIntegrator& integrator, const Cam
         for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
             for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
                 std::vector<Fragment>& out = per_tile[std::size_t(ty) * std::size_t(tiles_x) + std::size_t(tx)];
-                for (int j = ty * kTile; j < std::min(height, (ty + 1) * kTile); ++j)
-                    for (int i = tx * kTile; i < std::min(width, (tx + 1) * kTile); ++i) {
+                for (int j = rect.y0 + ty * kTile; j < std::min(rect.y1, rect.y0 + (ty + 1) * kTile); ++j)
+                    for (int i = rect.x0 + tx * kTile; i < std::min(rect.x1, rect.x0 + (tx + 1) * kTile); ++i) {
                         runs.clear();
                         integrator.runs(camera_ray(camera, width, height, i, j), rs, runs);
                         const uint32_t pixel = uint32_t(j) * uint32_t(width) + uint32_t(i);

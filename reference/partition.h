@@ -5,8 +5,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "reference/camera.h"
 #include "reference/choice.h"
 #include "reference/mesh.h"
+#include "reference/ray_integrator.h"
 #include "reference/topology.h"
 
 namespace uvr {
@@ -19,21 +21,51 @@ inline constexpr Choices<PartitionMethod, 2> kPartitionMethods{{
      "METIS's k-way partition of the cell graph: balanced, fewest cut faces, not convex"},
 }};
 
-// Per tetrahedron, its part in [0, parts), by `method` (the functions below).
-std::vector<uint32_t> partition_mesh(const TetMesh& mesh, uint32_t parts, PartitionMethod method);
+// What the parts balance: `uvr partition --balance`.
+enum class PartitionBalance { cells, view };
+inline constexpr Choices<PartitionBalance, 2> kPartitionBalances{{
+    {PartitionBalance::cells, "cells", "equal numbers of tetrahedra"},
+    {PartitionBalance::view, "view",
+     "equal work for one view (--camera or --view, --size): the steps the reference's rays take through each part "
+     "(rcb: steps plus a share per cell; metis: both the cells and the steps)"},
+}};
+
+// Per tetrahedron, its part in [0, parts), by `method` (the functions below). With `view_steps` (one per tetrahedron,
+// view_steps()) the parts balance a view's work: rcb weighs each tetrahedron by its steps plus kCellWorkInSteps,
+// METIS balances the cells and the steps together.
+std::vector<uint32_t> partition_mesh(const TetMesh& mesh, uint32_t parts, PartitionMethod method,
+                                     const std::vector<uint64_t>* view_steps = nullptr);
 
 // Per tetrahedron, its part in [0, parts): recursive coordinate bisection of the tetrahedra's centroids. Each step
 // splits a set of cells at the plane normal to the longest side of its centroids' bounding box (the lowest axis on a
 // tie), into two sets sized in proportion to the parts each receives (floor(n/2) and ceil(n/2) of n), ordering equal
 // coordinates by cell index. Parts differ in size by at most one cell per level, and the result is the same on every
-// run and machine. Throws InputError naming mesh.source unless 1 <= parts <= number of tetrahedra.
-std::vector<uint32_t> partition_rcb(const TetMesh& mesh, uint32_t parts);
+// run and machine. With `weights`, the two sets' shares are of the summed weights instead of the counts (the cut
+// nearest the share, each set keeping at least one cell per part it receives). Throws InputError naming mesh.source
+// unless 1 <= parts <= number of tetrahedra.
+std::vector<uint32_t> partition_rcb(const TetMesh& mesh, uint32_t parts,
+                                    const std::vector<uint64_t>* weights = nullptr);
 
 // Per tetrahedron, its part in [0, parts): METIS_PartGraphKway (Debian's libmetis) on the graph whose vertices are the
 // tetrahedra and whose edges are the internal faces (build_topology's, coincident points welded), with METIS's
-// default load imbalance (kMetisImbalance) and a fixed seed, so the result is the same on every run. The parts are
-// balanced and cut few faces, but are not boxes. Same refusals as partition_rcb.
-std::vector<uint32_t> partition_metis(const TetMesh& mesh, uint32_t parts);
+// default load imbalance (kMetisImbalance) and a fixed seed, so the result is the same on every run. With `steps`, a
+// second constraint (METIS's multi-constraint partitioning): each part also within the bound of the average steps.
+// The parts are balanced and cut few faces, but are not boxes. Same refusals as partition_rcb.
+std::vector<uint32_t> partition_metis(const TetMesh& mesh, uint32_t parts,
+                                      const std::vector<uint64_t>* steps = nullptr);
+
+// rcb's weight of a tetrahedron for a view is its steps plus this: what reading it, its topology and its share of the
+// integrator's set-up cost a rank, in steps of the walk. Sized on Blunt Fin's 2 rcb parts balanced for (-40, 70) at
+// 512^2 on this project's 2-core test machine: reading and building cost about 0.8 us a tetrahedron and a step
+// 0.11 us, but the ranks wait for each other after reading and after building, so the trace's balance counts most;
+// weights of 0, 3 and 10 gave 2 ranks' render (read to image) 0.463, 0.432 and 0.507 s (docs/distributed.md,
+// "Balanced for a view").
+inline constexpr uint64_t kCellWorkInSteps = 3;
+
+// Per tetrahedron, the steps the rays of a width x height image of `camera` take through it: its ray work in that view
+// (RayIntegrator::integrate_counting, one ray per pixel, as the reference renders).
+std::vector<uint64_t> view_steps(const RayIntegrator& integrator, std::size_t tetrahedra, const Camera& camera,
+                                 int width, int height);
 
 // METIS's default bound on a part's size: at most 1.03 times the average (its ufactor of 30, in thousandths).
 inline constexpr double kMetisImbalance = 1.03;

@@ -154,8 +154,9 @@ double RayIntegrator::scalar_at(uint32_t t, const glm::dvec3& p) const
     return g.w + glm::dot(glm::dvec3(g), p - mesh_.points[mesh_.tets[t][0]]);
 }
 
-int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, double t_clip, glm::dvec4& acc,
-                            double& t_out, RayStats& stats) const
+template <class OnStep>
+int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, double t_clip, glm::dvec4& acc, double& t_out,
+                            RayStats& stats, OnStep on_step) const
 {
     const Face& entry = topo_.faces[std::size_t(face)];
     uint32_t tet = uint32_t(entry.tet[0]);
@@ -195,6 +196,7 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, double t_
             }
         }
         ++stats.segments;
+        on_step(tet);
         if (exit_local < 0) {
             // Only possible for a ray lying in the entry face's plane with rounding against it; abandon the ray.
             ++stats.failures;
@@ -231,17 +233,8 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, double t_
     }
 }
 
-glm::dvec4 RayIntegrator::integrate(const Ray& ray, RayStats& stats) const
-{
-    return trace(ray, stats, nullptr);
-}
-
-void RayIntegrator::runs(const Ray& ray, RayStats& stats, std::vector<RayRun>& out) const
-{
-    trace(ray, stats, &out);
-}
-
-glm::dvec4 RayIntegrator::trace(const Ray& in, RayStats& stats, std::vector<RayRun>* runs) const
+template <class OnStep>
+glm::dvec4 RayIntegrator::trace(const Ray& in, RayStats& stats, std::vector<RayRun>* runs, OnStep on_step) const
 {
     const Embree& E = *embree_;
     // An origin inside the mesh's bounds may lie inside the mesh, where no boundary face is ahead to enter through.
@@ -297,7 +290,7 @@ glm::dvec4 RayIntegrator::trace(const Ray& in, RayStats& stats, std::vector<RayR
         ++stats.entries;
         double t_out = t_in;
         glm::dvec4 run(0.0);
-        const int32_t left = walk(ray, face, t_in, back, runs ? run : acc, t_out, stats);
+        const int32_t left = walk(ray, face, t_in, back, runs ? run : acc, t_out, stats, on_step);
         // A run's own opacity hides what lies behind it on this ray as the whole accumulator's does.
         const double alpha = runs ? run.a : acc.a;
         if (runs && t_out > back) runs->push_back({std::max(t_in, back) - back, t_out - back, run});
@@ -306,6 +299,27 @@ glm::dvec4 RayIntegrator::trace(const Ray& in, RayStats& stats, std::vector<RayR
         t_min = t_out;
     }
     return acc;
+}
+
+namespace {
+struct NoStep {
+    void operator()(uint32_t) const {}
+};
+}  // namespace
+
+glm::dvec4 RayIntegrator::integrate(const Ray& ray, RayStats& stats) const
+{
+    return trace(ray, stats, nullptr, NoStep{});
+}
+
+void RayIntegrator::runs(const Ray& ray, RayStats& stats, std::vector<RayRun>& out) const
+{
+    trace(ray, stats, &out, NoStep{});
+}
+
+glm::dvec4 RayIntegrator::integrate_counting(const Ray& ray, RayStats& stats, std::vector<uint32_t>& visits) const
+{
+    return trace(ray, stats, nullptr, [&visits](uint32_t tet) { ++visits[tet]; });
 }
 
 }  // namespace uvr

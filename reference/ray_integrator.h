@@ -54,18 +54,29 @@ public:
     // piece whose boundary includes cut faces) they are the fragments data-parallel rendering exchanges.
     void runs(const Ray& ray, RayStats& stats, std::vector<RayRun>& runs) const;
 
+    // integrate(), also adding one to visits[t] for every step through tetrahedron t (zero-length passes included):
+    // the ray work each cell costs, which a partition balanced for a view weighs (reference/partition.h). `visits`
+    // holds one count per tetrahedron of the mesh.
+    glm::dvec4 integrate_counting(const Ray& ray, RayStats& stats, std::vector<uint32_t>& visits) const;
+
+    // The mesh's bounds: no ray meets a cell outside them.
+    const Bounds& bounds() const { return bounds_; }
+
     // The scalar at world point p inside tetrahedron t (linear interpolation).
     double scalar_at(uint32_t t, const glm::dvec3& p) const;
 
 private:
     struct Embree;
     // The loop over the ray's entries through the boundary: with `runs` null, every walk composites into one
-    // accumulator (integrate); otherwise each walk's run starts transparent and is appended.
-    glm::dvec4 trace(const Ray& ray, RayStats& stats, std::vector<RayRun>* runs) const;
+    // accumulator (integrate); otherwise each walk's run starts transparent and is appended. `on_step(t)` is called
+    // for every step through tetrahedron t (a no-op but for integrate_counting).
+    template <class OnStep>
+    glm::dvec4 trace(const Ray& ray, RayStats& stats, std::vector<RayRun>* runs, OnStep on_step) const;
     // The walk from boundary face `face` entered at ray parameter t_in, compositing into acc what lies at t >= t_clip;
     // returns the boundary face it leaves through and sets t_out.
+    template <class OnStep>
     int32_t walk(const Ray& ray, int32_t face, double t_in, double t_clip, glm::dvec4& acc, double& t_out,
-                 RayStats& stats) const;
+                 RayStats& stats, OnStep on_step) const;
 
     const TetMesh& mesh_;
     const MeshTopology& topo_;

@@ -1,4 +1,5 @@
 // Camera files and pixel rays (docs/spec.md §2).
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -95,5 +96,48 @@ TEST_CASE("malformed cameras are errors naming the file")
         require_input_error(
             [] { parse_camera(R"({"eye": [0,0,1], "target": [0,0,0], "projection": "orthographic"})", "cam.json"); },
             {"cam.json", "ortho_height"});
+    }
+}
+
+TEST_CASE("the pixels covering a box hold every pixel whose ray meets it")
+{
+    const Bounds box{{-1.0, -0.5, -2.0}, {1.5, 0.5, 0.0}};
+    constexpr int kW = 48, kH = 32;
+    // The slab test of the ray through pixel (i, j) against the box.
+    auto meets = [&](const Camera& cam, int i, int j) {
+        const Ray r = camera_ray(cam, kW, kH, i, j);
+        double t0 = 0.0, t1 = 1e300;
+        for (int a = 0; a < 3; ++a) {
+            const double lo = (box.lo[a] - r.origin[a]) / r.dir[a], hi = (box.hi[a] - r.origin[a]) / r.dir[a];
+            t0 = std::max(t0, std::min(lo, hi));
+            t1 = std::min(t1, std::max(lo, hi));
+        }
+        return t0 <= t1;
+    };
+    Camera outside;
+    outside.eye = {4.0, 3.0, 6.0};
+    outside.target = {-1.5, 2.0, 0.0};  // the box off the image's centre: low and right of it
+    outside.fovy_deg = 60.0;
+    Camera ortho = outside;
+    ortho.orthographic = true;
+    ortho.ortho_height = 8.0;
+    Camera inside = outside;
+    inside.eye = {0.0, 0.0, -1.0};
+    const struct {
+        Camera cam;
+        bool whole;  // from inside the box every ray meets it: the rectangle is the image
+    } cases[] = {{outside, false}, {ortho, false}, {inside, true}};
+    for (const auto& [cam, expect_whole] : cases) {
+        const PixelRect r = pixels_covering(cam, kW, kH, box);
+        int hits = 0;
+        for (int j = 0; j < kH; ++j)
+            for (int i = 0; i < kW; ++i)
+                if (meets(cam, i, j)) {
+                    ++hits;
+                    INFO("pixel " << i << ", " << j);
+                    CHECK((i >= r.x0 && i < r.x1 && j >= r.y0 && j < r.y1));
+                }
+        CHECK(hits > 0);
+        CHECK((r.x0 == 0 && r.y0 == 0 && r.x1 == kW && r.y1 == kH) == expect_whole);
     }
 }
