@@ -8,6 +8,7 @@
 
 #include "gpu/pipeline/denormals.h"
 #include "gpu/pipeline/rasterize.h"
+#include "gpu/raycast/raycast_packet.h"
 #include "reference/timing.h"
 
 namespace uvr::gpu {
@@ -63,17 +64,35 @@ RaycastFrame RaycastRenderer::render(const Camera& cam, int width, int height) c
     std::vector<glm::vec4> colour(npix, glm::vec4(0.0f));
     std::vector<uint32_t> samples(npix, 0);
     t0 = Clock::now();
+    const bool packets = packet_march_applies(fc, tex);
     tbb::parallel_for(0, height, [&](int py) {
         const FlushDenormals llvmpipe_mxcsr;  // as llvmpipe's shader threads (gpu/pipeline/denormals.h)
+        // The row's rays, marched one at a time or kPacketRays together (the same bits).
+        RaycastRay rays[kPacketRays];
+        std::size_t pixel[kPacketRays];
+        int count = 0;
+        const auto flush = [&] {
+            RaycastResult r[kPacketRays];
+            if (packets) {
+                raycast_march_packet(fc, rays, count, tex, r);
+            } else {
+                for (int i = 0; i < count; ++i) r[i] = raycast_march(fc, rays[i], tex);
+            }
+            for (int i = 0; i < count; ++i) {
+                colour[pixel[i]] = r[i].colour;
+                samples[pixel[i]] = r[i].samples;
+            }
+            count = 0;
+        };
         for (int px = 0; px < width; ++px) {
             const std::size_t p = std::size_t(py) * std::size_t(width) + std::size_t(px);
             if (published && front.position[p].w == 0.0f) continue;
-            const RaycastRay ray =
+            rays[count] =
                 published ? raycast_ray_published(fc, front.position[p], back.position[p]) : raycast_ray(fc, px, py);
-            const RaycastResult r = raycast_march(fc, ray, tex);
-            colour[p] = r.colour;
-            samples[p] = r.samples;
+            pixel[count] = p;
+            if (++count == kPacketRays) flush();
         }
+        flush();
     });
     const double march_ms = ms_since(t0);
     store_raycast_frame(colour, samples, width, height, out);

@@ -156,14 +156,6 @@ glm::vec4 lit(const glm::vec4& c, const glm::vec2& f)
     return {c.r * f.x + c.a * f.y, c.g * f.x + c.a * f.y, c.b * f.x + c.a * f.y, c.a};
 }
 
-// Front to back: acc = c * (1 - acc.a) + acc, per channel (MAD, unfused), as VICP's compositing.
-void composite(glm::vec4& acc, const glm::vec4& c)
-{
-    const float one_minus_a = 1.0f - acc.a;
-    acc = glm::vec4(c.r * one_minus_a + acc.r, c.g * one_minus_a + acc.g, c.b * one_minus_a + acc.b,
-                    c.a * one_minus_a + acc.a);
-}
-
 }  // namespace
 
 RaycastResult raycast_march(const RaycastFrameConstants& fc, const RaycastRay& ray, const RaycastTextures& tex)
@@ -188,7 +180,7 @@ RaycastResult raycast_march(const RaycastFrameConstants& fc, const RaycastRay& r
         for (int k = 0; k < n; ++k) {
             const glm::vec3 p = position(k);
             const glm::vec4 c = shaded(classify(scalar(p)), p, double(k) * fc.step);
-            composite(acc, c);
+            raycast_composite(acc, c);
             ++out.samples;
             if (acc.a > fc.threshold) break;
         }
@@ -209,7 +201,7 @@ RaycastResult raycast_march(const RaycastFrameConstants& fc, const RaycastRay& r
                 const float t_z = length * fc.length_scale + fc.length_bias;
                 const glm::vec4 c =
                     shaded(segment(previous, x, t_z, length), p, last ? ray.length : double(k) * fc.step);
-                composite(acc, c);
+                raycast_composite(acc, c);
             }
             previous = x;
             if (acc.a > fc.threshold) break;

@@ -96,6 +96,14 @@ struct RaycastResult {
 
 RaycastResult raycast_march(const RaycastFrameConstants& fc, const RaycastRay& ray, const RaycastTextures& tex);
 
+// The march's compositing, front to back: acc = c * (1 - acc.a) + acc, per channel (MAD, unfused), as VICP's.
+inline void raycast_composite(glm::vec4& acc, const glm::vec4& c)
+{
+    const float one_minus_a = 1.0f - acc.a;
+    acc = glm::vec4(c.r * one_minus_a + acc.r, c.g * one_minus_a + acc.g, c.b * one_minus_a + acc.b,
+                    c.a * one_minus_a + acc.a);
+}
+
 // The shading factors (m, p) at texture position p of sample distance t (world units past the entry) with the float
 // gradient g (exposed for the stage tests), and the shaded colour.
 // raycast_light_factors is the double part (compared by the stage harness); raycast_light rounds it to float.

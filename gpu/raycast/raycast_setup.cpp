@@ -59,7 +59,7 @@ RaycastVolume::RaycastVolume(const Volume& volume, const TransferFunction& tf, c
     VolumeFormat f = options_.volume_format;
     if (f == VolumeFormat::native && volume.type == VoxelType::u8) {
         format_ = TexelFormat::u8;
-        u8_.resize(n);
+        u8_.resize(n + kPacketGatherPadding);
         for (std::size_t i = 0; i < n; ++i) u8_[i] = uint8_t(volume.values[i]);
         unit = 255.0, zero = 0.0;
     } else if (f == VolumeFormat::native && volume.type == VoxelType::u16) {
@@ -78,7 +78,7 @@ RaycastVolume::RaycastVolume(const Volume& volume, const TransferFunction& tf, c
             u16_.resize(n);
             for (std::size_t i = 0; i < n; ++i) u16_[i] = float_to_unorm16(normalized(i));
         } else {
-            u8_.resize(n);
+            u8_.resize(n + kPacketGatherPadding);
             for (std::size_t i = 0; i < n; ++i) u8_[i] = float_to_unorm8(normalized(i));
         }
     }
