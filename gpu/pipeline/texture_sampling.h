@@ -176,6 +176,8 @@ glm::vec4 sample_linear_soa(const TextureView& tex, const float* coord, int dims
 // fuse (cpu.fma and host_has_fma()): the same bits, four channels at once. sample_2d and sample_3d take it where it
 // applies; the test calls both paths.
 bool host_has_fma();
+// Whether this host runs AVX2 and FMA3 (gpu/pipeline/texture_lanes.h: lookups eight at a time).
+bool host_has_avx2();
 glm::vec4 sample_linear_f32x4_fma(const TextureView& tex, const float* coord, int dims);
 // Whether sample_2d and sample_3d take that fast path for `tex` with `filter` (a caller that samples one texture
 // many times may then call it directly: the same bits, without the dispatch per sample).

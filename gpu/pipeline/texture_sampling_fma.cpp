@@ -21,6 +21,12 @@ bool host_has_fma()
     return fma;
 }
 
+bool host_has_avx2()
+{
+    static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    return avx2;
+}
+
 namespace {
 
 // Every helper carries the target too: GCC inlines a function compiled for FMA3 only into one that is.
@@ -66,6 +72,10 @@ __attribute__((target("fma"))) glm::vec4 sample_linear_f32x4_fma(const TextureVi
 #else
 
 bool host_has_fma() { return false; }
+bool host_has_avx2()
+{
+    return false;
+}
 
 glm::vec4 sample_linear_f32x4_fma(const TextureView&, const float*, int) { return glm::vec4(0.0f); }
 
