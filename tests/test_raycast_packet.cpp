@@ -87,34 +87,43 @@ void check_packets(const RaycastVolume& rv, RaycastTextures tex, float threshold
 
 TEST_CASE("the packet march gives every ray the one-ray march's bits, post-classified and pre-integrated")
 {
-    const test::VolumeScene s = test::volume_scene("vtk-data/neghip.slc");
+    const struct {
+        const char* file;
+        VolumeFormat format;
+        const char* texture;
+    } volumes[] = {{"vtk-data/neghip.slc", VolumeFormat::native, "8-bit"},  // the AoS path
+                   {"vtk-data/neghip.slc", VolumeFormat::u16, "16-bit"},    // 16-bit and float: the SoA path
+                   {"vtk-data/hydrogen.vti", VolumeFormat::native, "float"}};
     Rng r(20261128);
-    Tally t;
-    for (const bool pre : {false, true})
-        for (const bool exact_segment : {false, true}) {
-            if (exact_segment && !pre) continue;
-            RaycastOptions o;
-            o.step = 0.5;
-            o.preintegrate = pre;
-            o.segment = exact_segment ? SegmentMode::exact : SegmentMode::table;
-            o.table_size = 32;  // small: lookups land between texels
-            const RaycastVolume rv(s.volume, s.tf, o);
-            // Both of llvmpipe's 8-bit lerps and both float lerps (fused, and not: an emulated CPU without FMA3).
-            for (const bool fma : {true, false})
-                for (const bool rounds : {true, false}) {
-                    RaycastTextures tex = raycast_textures(rv);
-                    tex.cpu.fma = fma;
-                    tex.cpu.lerp8_rounds = rounds;
-                    // The pre-integrated segment's path was chosen with the textures: only the volume's lerp varies.
-                    if (pre && !fma) continue;
-                    const float threshold = r.pick(2) == 0 ? 0.95f : 0.3f;
-                    const double azimuth = r.uni(-180.0, 180.0), elevation = r.uni(-80.0, 80.0);  // in this order
-                    check_packets(rv, tex, threshold, azimuth, elevation, r, t);
-                }
-        }
-    INFO(t.rays << " rays, " << t.samples << " samples, " << t.stopped << " stopped by the threshold");
-    CHECK(t.differing == 0);
-    // The cases reach what they are for: long rays, and rays the threshold ends.
-    CHECK(t.samples > 20 * t.rays);
-    CHECK(t.stopped > 100);
+    for (const auto& v : volumes) {
+        const test::VolumeScene s = test::volume_scene(v.file);
+        Tally t;
+        for (const bool pre : {false, true})
+            for (const bool exact_segment : {false, true}) {
+                if (exact_segment && !pre) continue;
+                RaycastOptions o;
+                o.step = 0.5;
+                o.preintegrate = pre;
+                o.segment = exact_segment ? SegmentMode::exact : SegmentMode::table;
+                o.table_size = 32;  // small: lookups land between texels
+                o.volume_format = v.format;
+                const RaycastVolume rv(s.volume, s.tf, o);
+                // Both of llvmpipe's 8-bit lerps and both float lerps (fused, and not: an emulated CPU without FMA3).
+                for (const bool fma : {true, false})
+                    for (const bool rounds : {true, false}) {
+                        RaycastTextures tex = raycast_textures(rv);
+                        tex.cpu.fma = fma;
+                        tex.cpu.lerp8_rounds = rounds;
+                        const float threshold = r.pick(2) == 0 ? 0.95f : 0.3f;
+                        const double azimuth = r.uni(-180.0, 180.0), elevation = r.uni(-80.0, 80.0);  // in this order
+                        check_packets(rv, tex, threshold, azimuth, elevation, r, t);
+                    }
+            }
+        INFO(v.file << ", " << v.texture << " texture: " << t.rays << " rays, " << t.samples << " samples, "
+                    << t.stopped << " stopped by the threshold");
+        CHECK(t.differing == 0);
+        // The cases reach what they are for: long rays, and rays the threshold ends.
+        CHECK(t.samples > 20 * t.rays);
+        CHECK(t.stopped > 100);
+    }
 }

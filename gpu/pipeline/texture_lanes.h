@@ -177,6 +177,46 @@ UVR_AVX2 Rgba lerp(V w, const Rgba& a, const Rgba& b)
     return out;
 }
 
+// Texel `index` of a one-channel float (R32F) or 16-bit (R16, as unorm16_to_float converts it) texture, as float. A
+// 16-bit texel is the low half of the 32-bit word gathered at its address, which reads 2 bytes past the last texel.
+template <TexelFormat kFormat>
+UVR_AVX2 V texel_red(const void* texels, I index)
+{
+    static_assert(kFormat == TexelFormat::f32 || kFormat == TexelFormat::u16);
+    if constexpr (kFormat == TexelFormat::f32) return _mm256_i32gather_ps(static_cast<const float*>(texels), index, 4);
+    const I v = _mm256_and_si256(_mm256_i32gather_epi32(static_cast<const int*>(texels), index, 2), splat(0xffff));
+    constexpr float kScale = static_cast<float>(1.0 / 65535.0);  // unorm16_to_float's
+    return _mm256_mul_ps(_mm256_cvtepi32_ps(v), splat(kScale));
+}
+
+// The lerp along x of texels (x0, row) and (x1, row) of a one-channel texture, `row` the lanes' texel index of x = 0.
+template <TexelFormat kFormat, bool kFma>
+UVR_AVX2 V lerp_x_red(const void* texels, I row, const TapsF& tx)
+{
+    return lerp_f<kFma>(tx.weight, texel_red<kFormat>(texels, _mm256_add_epi32(row, tx.i0)),
+                        texel_red<kFormat>(texels, _mm256_add_epi32(row, tx.i1)));
+}
+
+// Slice z filtered in x and y: lerp(t, lerp(s, v00, v01), lerp(s, v10, v11)).
+template <TexelFormat kFormat, bool kFma>
+UVR_AVX2 V slice_red(const TextureView& tex, I z, const TapsF& tx, const TapsF& ty)
+{
+    const I w = splat(tex.width), zh = _mm256_mullo_epi32(z, splat(tex.height));
+    const V r0 = lerp_x_red<kFormat, kFma>(tex.texels, _mm256_mullo_epi32(_mm256_add_epi32(zh, ty.i0), w), tx);
+    const V r1 = lerp_x_red<kFormat, kFma>(tex.texels, _mm256_mullo_epi32(_mm256_add_epi32(zh, ty.i1), w), tx);
+    return lerp_f<kFma>(ty.weight, r0, r1);
+}
+
+// sample_linear_soa's red channel on a one-channel float or 16-bit 3D texture (the ray caster's volume), in eight
+// lanes: the taps of x, y and z, then the lerp tree x, y, z.
+template <TexelFormat kFormat, bool kFma>
+UVR_AVX2 V sample_volume_soa(const TextureView& tex, V x, V y, V z)
+{
+    const TapsF tx = wrap_soa(x, tex.width), ty = wrap_soa(y, tex.height), tz = wrap_soa(z, tex.depth);
+    return lerp_f<kFma>(tz.weight, slice_red<kFormat, kFma>(tex, tz.i0, tx, ty),
+                        slice_red<kFormat, kFma>(tex, tz.i1, tx, ty));
+}
+
 // Slice z of the 3D table filtered in x and y, fused.
 UVR_AVX2 Rgba table_slice(const TextureView& table, I z, const TapsF& tx, const TapsF& ty)
 {

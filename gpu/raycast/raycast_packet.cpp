@@ -55,9 +55,23 @@ __attribute__((target("avx2,fma"))) Lanes load_lanes(const RaycastRay* rays, int
     return lanes;
 }
 
+// The volume's lookup, as sample_3d takes it for the volume's format: an 8-bit volume through the AoS path (its 8-bit
+// lerp rounding or not), a 16-bit or float one through the SoA path (its lerps fused or not).
+template <bool kRounds>
+struct R8Volume {
+    UVR_AVX2 static V sample(const TextureView& t, V x, V y, V z) { return sample_volume<kRounds>(t, x, y, z); }
+};
+template <TexelFormat kFormat, bool kFma>
+struct SoaVolume {
+    UVR_AVX2 static V sample(const TextureView& t, V x, V y, V z)
+    {
+        return sample_volume_soa<kFormat, kFma>(t, x, y, z);
+    }
+};
+
 // The march's scalar at sample k of every lane (raycast_march's position(k), then scalar(p)); where `at_exit`, at the
 // lane's exit instead.
-template <bool kRounds>
+template <class Volume>
 UVR_AVX2 V scalar_at(const RaycastFrameConstants& fc, const RaycastTextures& tex, const Lanes& lanes, int k,
                      V at_exit = _mm256_setzero_ps())
 {
@@ -65,7 +79,7 @@ UVR_AVX2 V scalar_at(const RaycastFrameConstants& fc, const RaycastTextures& tex
     V p[3];
     for (int a = 0; a < 3; ++a)
         p[a] = _mm256_blendv_ps(_mm256_add_ps(lanes.tex0[a], _mm256_mul_ps(kf, lanes.dtex[a])), lanes.exit[a], at_exit);
-    const V u = sample_volume<kRounds>(tex.volume, p[0], p[1], p[2]);
+    const V u = Volume::sample(tex.volume, p[0], p[1], p[2]);
     return _mm256_add_ps(_mm256_mul_ps(u, splat(fc.scalar_scale)), splat(fc.scalar_bias));
 }
 
@@ -99,7 +113,7 @@ __attribute__((target("avx2,fma"))) void store_results(const V* acc, I taken, in
 }
 
 // The post-classified march, every step in the lanes.
-template <bool kRounds, bool kFma>
+template <class Volume, bool kFma>
 __attribute__((target("avx2,fma"))) void march_classified(const RaycastFrameConstants& fc, const RaycastRay* rays,
                                                           int count, const RaycastTextures& tex, RaycastResult* out)
 {
@@ -113,7 +127,7 @@ __attribute__((target("avx2,fma"))) void march_classified(const RaycastFrameCons
         // A lane marches while k < its sample count and its opacity has not passed the threshold.
         const I active = _mm256_and_si256(alive, _mm256_cmpgt_epi32(lanes.n, splat(k)));
         if (_mm256_testz_si256(active, active)) break;
-        composite(acc, classify<kFma>(table, ty, scalar_at<kRounds>(fc, tex, lanes, k)), active);
+        composite(acc, classify<kFma>(table, ty, scalar_at<Volume>(fc, tex, lanes, k)), active);
         taken = _mm256_sub_epi32(taken, active);  // + 1 on the active lanes (-1 each)
         alive = _mm256_andnot_si256(opaque(acc, fc.threshold), alive);
     }
@@ -123,13 +137,13 @@ __attribute__((target("avx2,fma"))) void march_classified(const RaycastFrameCons
 // The pre-integrated march with the table's usual path (TableSegmentShader), every step in the lanes: raycast_march
 // from sample 1 to n, the last sample at the exit with the last length, a segment composited where its length is
 // positive.
-template <bool kRounds>
+template <class Volume>
 __attribute__((target("avx2,fma"))) void march_table(const RaycastFrameConstants& fc, const RaycastRay* rays, int count,
                                                      const RaycastTextures& tex, const TextureView& table,
                                                      RaycastResult* out)
 {
     const Lanes lanes = load_lanes(rays, count);
-    V previous = scalar_at<kRounds>(fc, tex, lanes, 0);
+    V previous = scalar_at<Volume>(fc, tex, lanes, 0);
     V acc[4] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
     I alive = _mm256_cmpgt_epi32(lanes.n, _mm256_setzero_si256());  // a ray without samples takes none
     I taken = _mm256_and_si256(alive, splat(1));                    // the entry's sample
@@ -137,7 +151,7 @@ __attribute__((target("avx2,fma"))) void march_table(const RaycastFrameConstants
         const I active = _mm256_and_si256(alive, _mm256_cmpgt_epi32(lanes.n, splat(k - 1)));  // k <= n
         if (_mm256_testz_si256(active, active)) break;
         const V last = _mm256_castsi256_ps(_mm256_cmpeq_epi32(lanes.n, splat(k)));
-        const V x = scalar_at<kRounds>(fc, tex, lanes, k, last);
+        const V x = scalar_at<Volume>(fc, tex, lanes, k, last);
         const V length = _mm256_blendv_ps(splat(fc.step_f), lanes.last_length, last);
         const V t_z = _mm256_add_ps(_mm256_mul_ps(length, splat(fc.length_scale)), splat(fc.length_bias));
         const I lit = _mm256_castps_si256(_mm256_cmp_ps(length, _mm256_setzero_ps(), _CMP_GT_OQ));
@@ -151,14 +165,14 @@ __attribute__((target("avx2,fma"))) void march_table(const RaycastFrameConstants
 
 // The pre-integrated march with any other segment (--segment exact): the volume's samples in the lanes, each lane's
 // segment and compositing on its own (raycast_march's, in its order: the samples of one ray never mix).
-template <bool kRounds, class Segment>
+template <class Volume, class Segment>
 __attribute__((target("avx2,fma"))) void march_preintegrated(const RaycastFrameConstants& fc, const RaycastRay* rays,
                                                              int count, const RaycastTextures& tex,
                                                              const Segment& segment, RaycastResult* out)
 {
     const Lanes lanes = load_lanes(rays, count);
     alignas(32) float previous[8], x[8];
-    _mm256_store_ps(previous, scalar_at<kRounds>(fc, tex, lanes, 0));
+    _mm256_store_ps(previous, scalar_at<Volume>(fc, tex, lanes, 0));
     bool alive[8] = {};
     for (int l = 0; l < count; ++l) {
         out[l] = RaycastResult{};
@@ -170,7 +184,7 @@ __attribute__((target("avx2,fma"))) void march_preintegrated(const RaycastFrameC
         for (int l = 0; l < count; ++l) any |= alive[l] && k <= rays[l].samples;
         if (!any) break;
         const V last = _mm256_castsi256_ps(_mm256_cmpeq_epi32(lanes.n, splat(k)));
-        _mm256_store_ps(x, scalar_at<kRounds>(fc, tex, lanes, k, last));
+        _mm256_store_ps(x, scalar_at<Volume>(fc, tex, lanes, k, last));
         for (int l = 0; l < count; ++l) {
             if (!alive[l] || k > rays[l].samples) continue;
             const bool is_last = k == rays[l].samples;
@@ -186,16 +200,24 @@ __attribute__((target("avx2,fma"))) void march_preintegrated(const RaycastFrameC
     }
 }
 
-template <bool kRounds>
+template <class Volume>
 void march(const RaycastFrameConstants& fc, const RaycastRay* rays, int count, const RaycastTextures& tex,
            RaycastResult* out)
 {
     if (fc.preintegrate) {
-        if (tex.table_segment) return march_table<kRounds>(fc, rays, count, tex, tex.table_segment->view, out);
-        return march_preintegrated<kRounds>(fc, rays, count, tex, tex.segment, out);
+        if (tex.table_segment) return march_table<Volume>(fc, rays, count, tex, tex.table_segment->view, out);
+        return march_preintegrated<Volume>(fc, rays, count, tex, tex.segment, out);
     }
-    if (tex.cpu.fma) return march_classified<kRounds, true>(fc, rays, count, tex, out);
-    march_classified<kRounds, false>(fc, rays, count, tex, out);
+    if (tex.cpu.fma) return march_classified<Volume, true>(fc, rays, count, tex, out);
+    march_classified<Volume, false>(fc, rays, count, tex, out);
+}
+
+template <TexelFormat kFormat>
+void march_soa(const RaycastFrameConstants& fc, const RaycastRay* rays, int count, const RaycastTextures& tex,
+               RaycastResult* out)
+{
+    if (tex.cpu.fma) return march<SoaVolume<kFormat, true>>(fc, rays, count, tex, out);
+    march<SoaVolume<kFormat, false>>(fc, rays, count, tex, out);
 }
 
 }  // namespace
@@ -208,15 +230,22 @@ bool packet_march_applies(const RaycastFrameConstants& fc, const RaycastTextures
     };
     const TextureView& v = tex.volume;
     const bool table_fits = !fc.preintegrate || !tex.table_segment || fits(tex.table_segment->view, 4);
-    return host_has_avx2() && !fc.shade && (fc.preintegrate || tex.classification) && v.format == TexelFormat::u8 &&
-           v.channels == 1 && fits(v, 1) && table_fits;
+    return host_has_avx2() && !fc.shade && (fc.preintegrate || tex.classification) && v.channels == 1 && fits(v, 1) &&
+           table_fits;
 }
 
 void raycast_march_packet(const RaycastFrameConstants& fc, const RaycastRay* rays, int count,
                           const RaycastTextures& tex, RaycastResult* out)
 {
-    if (tex.cpu.lerp8_rounds) return march<true>(fc, rays, count, tex, out);
-    march<false>(fc, rays, count, tex, out);
+    switch (tex.volume.format) {
+        case TexelFormat::u8:
+            if (tex.cpu.lerp8_rounds) return march<R8Volume<true>>(fc, rays, count, tex, out);
+            return march<R8Volume<false>>(fc, rays, count, tex, out);
+        case TexelFormat::u16:
+            return march_soa<TexelFormat::u16>(fc, rays, count, tex, out);
+        case TexelFormat::f32:
+            return march_soa<TexelFormat::f32>(fc, rays, count, tex, out);
+    }
 }
 
 #else

@@ -64,7 +64,7 @@ RaycastVolume::RaycastVolume(const Volume& volume, const TransferFunction& tf, c
         unit = 255.0, zero = 0.0;
     } else if (f == VolumeFormat::native && volume.type == VoxelType::u16) {
         format_ = TexelFormat::u16;
-        u16_.resize(n);
+        u16_.resize(n + kPacketGatherPadding);
         for (std::size_t i = 0; i < n; ++i) u16_[i] = uint16_t(volume.values[i]);
         unit = 65535.0, zero = 0.0;
     } else {
@@ -75,7 +75,7 @@ RaycastVolume::RaycastVolume(const Volume& volume, const TransferFunction& tf, c
             f32_.resize(n);
             for (std::size_t i = 0; i < n; ++i) f32_[i] = normalized(i);
         } else if (format_ == TexelFormat::u16) {
-            u16_.resize(n);
+            u16_.resize(n + kPacketGatherPadding);
             for (std::size_t i = 0; i < n; ++i) u16_[i] = float_to_unorm16(normalized(i));
         } else {
             u8_.resize(n + kPacketGatherPadding);

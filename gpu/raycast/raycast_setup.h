@@ -57,8 +57,8 @@ double default_raycast_step(const Volume& volume);
 // A ray never takes more samples than this: --step is refused when the box's diagonal needs more.
 inline constexpr int kMaxRaySamples = 1 << 20;
 
-// Bytes an 8-bit volume texture holds past its last texel: the packet march (gpu/raycast/raycast_packet.h) reads each
-// texel as the low byte of a 32-bit gather, so up to 3 bytes beyond the last one are read, and ignored.
+// Texels an 8- or 16-bit volume texture holds past its last one: the packet march (gpu/raycast/raycast_packet.h) reads
+// each texel as the low byte or half of a 32-bit gather, so up to 3 bytes beyond the last one are read, and ignored.
 inline constexpr std::size_t kPacketGatherPadding = 3;
 
 class RaycastVolume {
