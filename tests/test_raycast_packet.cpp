@@ -85,7 +85,7 @@ void check_packets(const RaycastVolume& rv, RaycastTextures tex, float threshold
 
 }  // namespace
 
-TEST_CASE("the packet march gives every ray the one-ray march's bits, post-classified and pre-integrated")
+TEST_CASE("the packet march gives every ray the one-ray march's bits, post-classified and pre-integrated, lit or not")
 {
     const struct {
         const char* file;
@@ -98,27 +98,33 @@ TEST_CASE("the packet march gives every ray the one-ray march's bits, post-class
     for (const auto& v : volumes) {
         const test::VolumeScene s = test::volume_scene(v.file);
         Tally t;
+        const Bounds b = volume_bounds(s.volume);
         for (const bool pre : {false, true})
-            for (const bool exact_segment : {false, true}) {
-                if (exact_segment && !pre) continue;
-                RaycastOptions o;
-                o.step = 0.5;
-                o.preintegrate = pre;
-                o.segment = exact_segment ? SegmentMode::exact : SegmentMode::table;
-                o.table_size = 32;  // small: lookups land between texels
-                o.volume_format = v.format;
-                const RaycastVolume rv(s.volume, s.tf, o);
-                // Both of llvmpipe's 8-bit lerps and both float lerps (fused, and not: an emulated CPU without FMA3).
-                for (const bool fma : {true, false})
-                    for (const bool rounds : {true, false}) {
-                        RaycastTextures tex = raycast_textures(rv);
-                        tex.cpu.fma = fma;
-                        tex.cpu.lerp8_rounds = rounds;
-                        const float threshold = r.pick(2) == 0 ? 0.95f : 0.3f;
-                        const double azimuth = r.uni(-180.0, 180.0), elevation = r.uni(-80.0, 80.0);  // in this order
-                        check_packets(rv, tex, threshold, azimuth, elevation, r, t);
-                    }
-            }
+            for (const bool exact_segment : {false, true})
+                for (const bool lit : {false, true}) {
+                    if (exact_segment && !pre) continue;
+                    RaycastOptions o;
+                    // Blinn-Phong from a light beside the volume: the gradient's six lookups and the light per lane.
+                    if (lit) o.light = RaycastLight{b.center() + 2.0 * b.extent()};
+                    o.step = 0.5;
+                    o.preintegrate = pre;
+                    o.segment = exact_segment ? SegmentMode::exact : SegmentMode::table;
+                    o.table_size = 32;  // small: lookups land between texels
+                    o.volume_format = v.format;
+                    const RaycastVolume rv(s.volume, s.tf, o);
+                    // Both of llvmpipe's 8-bit lerps and both float lerps (fused, and not: an emulated CPU without
+                    // FMA3).
+                    for (const bool fma : {true, false})
+                        for (const bool rounds : {true, false}) {
+                            RaycastTextures tex = raycast_textures(rv);
+                            tex.cpu.fma = fma;
+                            tex.cpu.lerp8_rounds = rounds;
+                            const float threshold = r.pick(2) == 0 ? 0.95f : 0.3f;
+                            const double azimuth = r.uni(-180.0, 180.0),
+                                         elevation = r.uni(-80.0, 80.0);  // in this order
+                            check_packets(rv, tex, threshold, azimuth, elevation, r, t);
+                        }
+                }
         INFO(v.file << ", " << v.texture << " texture: " << t.rays << " rays, " << t.samples << " samples, "
                     << t.stopped << " stopped by the threshold");
         CHECK(t.differing == 0);

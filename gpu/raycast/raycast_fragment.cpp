@@ -150,12 +150,6 @@ glm::dvec2 raycast_light_factors(const RaycastFrameConstants& fc, const RaycastR
 
 namespace {
 
-// c.rgb * m + c.a * p, alpha unchanged (unfused).
-glm::vec4 lit(const glm::vec4& c, const glm::vec2& f)
-{
-    return {c.r * f.x + c.a * f.y, c.g * f.x + c.a * f.y, c.b * f.x + c.a * f.y, c.a};
-}
-
 }  // namespace
 
 RaycastResult raycast_march(const RaycastFrameConstants& fc, const RaycastRay& ray, const RaycastTextures& tex)
@@ -171,7 +165,7 @@ RaycastResult raycast_march(const RaycastFrameConstants& fc, const RaycastRay& r
         return u * fc.scalar_scale + fc.scalar_bias;
     };
     auto shaded = [&](glm::vec4 c, const glm::vec3& p, double t) {
-        if (fc.shade) c = lit(c, raycast_light(fc, ray, t, raycast_gradient(fc, tex, p)));
+        if (fc.shade) c = raycast_lit(c, raycast_light(fc, ray, t, raycast_gradient(fc, tex, p)));
         return c;
     };
     glm::vec4& acc = out.colour;

@@ -96,6 +96,12 @@ struct RaycastResult {
 
 RaycastResult raycast_march(const RaycastFrameConstants& fc, const RaycastRay& ray, const RaycastTextures& tex);
 
+// The shaded colour: c.rgb * m + c.a * p with the light factors f = (m, p), alpha unchanged (unfused).
+inline glm::vec4 raycast_lit(const glm::vec4& c, const glm::vec2& f)
+{
+    return {c.r * f.x + c.a * f.y, c.g * f.x + c.a * f.y, c.b * f.x + c.a * f.y, c.a};
+}
+
 // The march's compositing, front to back: acc = c * (1 - acc.a) + acc, per channel (MAD, unfused), as VICP's.
 inline void raycast_composite(glm::vec4& acc, const glm::vec4& c)
 {

@@ -69,18 +69,62 @@ struct SoaVolume {
     }
 };
 
-// The march's scalar at sample k of every lane (raycast_march's position(k), then scalar(p)); where `at_exit`, at the
-// lane's exit instead.
-template <class Volume>
-UVR_AVX2 V scalar_at(const RaycastFrameConstants& fc, const RaycastTextures& tex, const Lanes& lanes, int k,
-                     V at_exit = _mm256_setzero_ps())
+// The march's position of sample k in every lane (raycast_march's position(k)); where `at_exit`, the lane's exit.
+UVR_AVX2 void position_at(const Lanes& lanes, int k, V at_exit, V* p)
 {
     const V kf = splat(static_cast<float>(k));
-    V p[3];
     for (int a = 0; a < 3; ++a)
         p[a] = _mm256_blendv_ps(_mm256_add_ps(lanes.tex0[a], _mm256_mul_ps(kf, lanes.dtex[a])), lanes.exit[a], at_exit);
+}
+
+// raycast_march's scalar(p): the volume's value, normalized.
+template <class Volume>
+UVR_AVX2 V scalar_of(const RaycastFrameConstants& fc, const RaycastTextures& tex, const V* p)
+{
     const V u = Volume::sample(tex.volume, p[0], p[1], p[2]);
     return _mm256_add_ps(_mm256_mul_ps(u, splat(fc.scalar_scale)), splat(fc.scalar_bias));
+}
+
+// raycast_gradient in the lanes: per axis, the lookups one texel up and down, their difference times the axis's scale.
+template <class Volume>
+UVR_AVX2 void gradient_of(const RaycastFrameConstants& fc, const RaycastTextures& tex, const V* p, V* g)
+{
+    const float texel[3] = {fc.texel.x, fc.texel.y, fc.texel.z};
+    const float scale[3] = {fc.gradient_scale.x, fc.gradient_scale.y, fc.gradient_scale.z};
+    for (int a = 0; a < 3; ++a) {
+        V up[3] = {p[0], p[1], p[2]}, down[3] = {p[0], p[1], p[2]};
+        up[a] = _mm256_add_ps(p[a], splat(texel[a]));
+        down[a] = _mm256_sub_ps(p[a], splat(texel[a]));
+        const V u = Volume::sample(tex.volume, up[0], up[1], up[2]);
+        const V d = Volume::sample(tex.volume, down[0], down[1], down[2]);
+        g[a] = _mm256_mul_ps(_mm256_sub_ps(u, d), splat(scale[a]));
+    }
+}
+
+// The shading of raycast_march on the lanes `on`: the gradient in the lanes, each lane's light factors
+// (raycast_light, double precision, its own ray and distance t[l]), then raycast_lit in the lanes.
+template <class Volume>
+__attribute__((target("avx2,fma"))) Rgba shade(const RaycastFrameConstants& fc, const RaycastTextures& tex,
+                                               const RaycastRay* rays, int count, I on, const double* t, const V* p,
+                                               Rgba c)
+{
+    V g[3];
+    gradient_of<Volume>(fc, tex, p, g);
+    alignas(32) float gx[8], gy[8], gz[8], m[8] = {}, q[8] = {};
+    alignas(32) int32_t marching[8];
+    _mm256_store_ps(gx, g[0]);
+    _mm256_store_ps(gy, g[1]);
+    _mm256_store_ps(gz, g[2]);
+    _mm256_store_si256(reinterpret_cast<I*>(marching), on);
+    for (int l = 0; l < count; ++l) {
+        if (!marching[l]) continue;
+        const glm::vec2 f = raycast_light(fc, rays[l], t[l], glm::vec3(gx[l], gy[l], gz[l]));
+        m[l] = f.x;
+        q[l] = f.y;
+    }
+    const V mv = _mm256_load_ps(m), qv = _mm256_load_ps(q);
+    for (int ch = 0; ch < 3; ++ch) c.c[ch] = _mm256_add_ps(_mm256_mul_ps(c.c[ch], mv), _mm256_mul_ps(c.c[3], qv));
+    return c;
 }
 
 // raycast_composite on the lanes of `on` only.
@@ -127,7 +171,15 @@ __attribute__((target("avx2,fma"))) void march_classified(const RaycastFrameCons
         // A lane marches while k < its sample count and its opacity has not passed the threshold.
         const I active = _mm256_and_si256(alive, _mm256_cmpgt_epi32(lanes.n, splat(k)));
         if (_mm256_testz_si256(active, active)) break;
-        composite(acc, classify<kFma>(table, ty, scalar_at<Volume>(fc, tex, lanes, k)), active);
+        V p[3];
+        position_at(lanes, k, _mm256_setzero_ps(), p);
+        Rgba c = classify<kFma>(table, ty, scalar_of<Volume>(fc, tex, p));
+        if (fc.shade) {
+            double t[8];
+            for (double& tl : t) tl = double(k) * fc.step;
+            c = shade<Volume>(fc, tex, rays, count, active, t, p, c);
+        }
+        composite(acc, c, active);
         taken = _mm256_sub_epi32(taken, active);  // + 1 on the active lanes (-1 each)
         alive = _mm256_andnot_si256(opaque(acc, fc.threshold), alive);
     }
@@ -143,7 +195,9 @@ __attribute__((target("avx2,fma"))) void march_table(const RaycastFrameConstants
                                                      RaycastResult* out)
 {
     const Lanes lanes = load_lanes(rays, count);
-    V previous = scalar_at<Volume>(fc, tex, lanes, 0);
+    V p[3];
+    position_at(lanes, 0, _mm256_setzero_ps(), p);
+    V previous = scalar_of<Volume>(fc, tex, p);
     V acc[4] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
     I alive = _mm256_cmpgt_epi32(lanes.n, _mm256_setzero_si256());  // a ray without samples takes none
     I taken = _mm256_and_si256(alive, splat(1));                    // the entry's sample
@@ -151,11 +205,19 @@ __attribute__((target("avx2,fma"))) void march_table(const RaycastFrameConstants
         const I active = _mm256_and_si256(alive, _mm256_cmpgt_epi32(lanes.n, splat(k - 1)));  // k <= n
         if (_mm256_testz_si256(active, active)) break;
         const V last = _mm256_castsi256_ps(_mm256_cmpeq_epi32(lanes.n, splat(k)));
-        const V x = scalar_at<Volume>(fc, tex, lanes, k, last);
+        position_at(lanes, k, last, p);
+        const V x = scalar_of<Volume>(fc, tex, p);
         const V length = _mm256_blendv_ps(splat(fc.step_f), lanes.last_length, last);
         const V t_z = _mm256_add_ps(_mm256_mul_ps(length, splat(fc.length_scale)), splat(fc.length_bias));
-        const I lit = _mm256_castps_si256(_mm256_cmp_ps(length, _mm256_setzero_ps(), _CMP_GT_OQ));
-        composite(acc, segment_lookup(table, previous, x, t_z), _mm256_and_si256(active, lit));
+        const I lit =
+            _mm256_and_si256(active, _mm256_castps_si256(_mm256_cmp_ps(length, _mm256_setzero_ps(), _CMP_GT_OQ)));
+        Rgba c = segment_lookup(table, previous, x, t_z);
+        if (fc.shade) {
+            double t[8];
+            for (int l = 0; l < 8; ++l) t[l] = l < count && k == rays[l].samples ? rays[l].length : double(k) * fc.step;
+            c = shade<Volume>(fc, tex, rays, count, lit, t, p, c);
+        }
+        composite(acc, c, lit);
         taken = _mm256_sub_epi32(taken, active);
         previous = _mm256_blendv_ps(previous, x, _mm256_castsi256_ps(active));
         alive = _mm256_andnot_si256(opaque(acc, fc.threshold), alive);
@@ -172,7 +234,9 @@ __attribute__((target("avx2,fma"))) void march_preintegrated(const RaycastFrameC
 {
     const Lanes lanes = load_lanes(rays, count);
     alignas(32) float previous[8], x[8];
-    _mm256_store_ps(previous, scalar_at<Volume>(fc, tex, lanes, 0));
+    V p[3];
+    position_at(lanes, 0, _mm256_setzero_ps(), p);
+    _mm256_store_ps(previous, scalar_of<Volume>(fc, tex, p));
     bool alive[8] = {};
     for (int l = 0; l < count; ++l) {
         out[l] = RaycastResult{};
@@ -184,7 +248,15 @@ __attribute__((target("avx2,fma"))) void march_preintegrated(const RaycastFrameC
         for (int l = 0; l < count; ++l) any |= alive[l] && k <= rays[l].samples;
         if (!any) break;
         const V last = _mm256_castsi256_ps(_mm256_cmpeq_epi32(lanes.n, splat(k)));
-        _mm256_store_ps(x, scalar_at<Volume>(fc, tex, lanes, k, last));
+        position_at(lanes, k, last, p);
+        _mm256_store_ps(x, scalar_of<Volume>(fc, tex, p));
+        // The shading's gradients, in the lanes; each lane's light below.
+        alignas(32) float g[3][8];
+        if (fc.shade) {
+            V gv[3];
+            gradient_of<Volume>(fc, tex, p, gv);
+            for (int a = 0; a < 3; ++a) _mm256_store_ps(g[a], gv[a]);
+        }
         for (int l = 0; l < count; ++l) {
             if (!alive[l] || k > rays[l].samples) continue;
             const bool is_last = k == rays[l].samples;
@@ -192,7 +264,12 @@ __attribute__((target("avx2,fma"))) void march_preintegrated(const RaycastFrameC
             ++out[l].samples;
             if (length > 0.0f) {
                 const float t_z = length * fc.length_scale + fc.length_bias;
-                raycast_composite(out[l].colour, segment(previous[l], x[l], t_z, length));
+                glm::vec4 c = segment(previous[l], x[l], t_z, length);
+                if (fc.shade) {
+                    const double t = is_last ? rays[l].length : double(k) * fc.step;
+                    c = raycast_lit(c, raycast_light(fc, rays[l], t, glm::vec3(g[0][l], g[1][l], g[2][l])));
+                }
+                raycast_composite(out[l].colour, c);
             }
             previous[l] = x[l];
             if (out[l].colour.a > fc.threshold) alive[l] = false;
@@ -230,8 +307,7 @@ bool packet_march_applies(const RaycastFrameConstants& fc, const RaycastTextures
     };
     const TextureView& v = tex.volume;
     const bool table_fits = !fc.preintegrate || !tex.table_segment || fits(tex.table_segment->view, 4);
-    return host_has_avx2() && !fc.shade && (fc.preintegrate || tex.classification) && v.channels == 1 && fits(v, 1) &&
-           table_fits;
+    return host_has_avx2() && (fc.preintegrate || tex.classification) && v.channels == 1 && fits(v, 1) && table_fits;
 }
 
 void raycast_march_packet(const RaycastFrameConstants& fc, const RaycastRay* rays, int count,

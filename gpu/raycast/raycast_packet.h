@@ -1,9 +1,9 @@
 // Eight rays of the march at once, one in each lane of AVX2 registers, as llvmpipe's JIT code runs eight fragments:
 // raycast_march's operations lane by lane (the same IEEE and integer operations in the same order), so every ray gets
 // raycast_march's bits. The volume's lookups (8-bit, 16-bit or float), the tables' lookups and the compositing run in
-// the lanes; with the exact segment (--segment exact) each lane's segment is integrated on its own. It takes the
-// unshaded march on a host with AVX2 and FMA3; raycast_march does every other case. docs/raycast.md, "The emulation's
-// speed".
+// the lanes; with the exact segment (--segment exact) each lane's segment is integrated on its own, with a light each
+// lane's light factors are computed on their own (the gradient's lookups in the lanes). It takes every march on a host
+// with AVX2 and FMA3; raycast_march does them elsewhere. docs/raycast.md, "The emulation's speed".
 #pragma once
 
 #include "gpu/raycast/raycast_fragment.h"
