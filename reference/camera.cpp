@@ -59,9 +59,8 @@ PixelRect pixels_covering(const Camera& cam, int width, int height, const Bounds
     }
     if (!(std::isfinite(lo_i) && std::isfinite(hi_i) && std::isfinite(lo_j) && std::isfinite(hi_j))) return whole;
     const auto clamp = [](double v, int n) { return int(std::clamp(v, 0.0, double(n))); };
-    PixelRect r{clamp(std::floor(lo_i) - 1.0, width), clamp(std::floor(lo_j) - 1.0, height),
-                clamp(std::ceil(hi_i) + 2.0, width), clamp(std::ceil(hi_j) + 2.0, height)};
-    return r;
+    return {clamp(std::floor(lo_i) - 1.0, width), clamp(std::floor(lo_j) - 1.0, height),
+            clamp(std::ceil(hi_i) + 2.0, width), clamp(std::ceil(hi_j) + 2.0, height)};
 }
 
 void validate_camera(const Camera& cam, const std::string& file)

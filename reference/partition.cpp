@@ -112,8 +112,7 @@ std::vector<uint32_t> partition_mesh(const TetMesh& mesh, uint32_t parts, Partit
 {
     if (method == PartitionMethod::metis) return partition_metis(mesh, parts, view_steps);
     if (!view_steps) return partition_rcb(mesh, parts);
-    check_weights(mesh, view_steps);
-    std::vector<uint64_t> weights(*view_steps);
+    std::vector<uint64_t> weights(*view_steps);  // partition_rcb checks their count
     for (uint64_t& w : weights) w += kCellWorkInSteps;
     return partition_rcb(mesh, parts, &weights);
 }

@@ -148,10 +148,6 @@ glm::dvec2 raycast_light_factors(const RaycastFrameConstants& fc, const RaycastR
     return {fc.ambient + fc.diffuse * diffuse, fc.specular * specular};
 }
 
-namespace {
-
-}  // namespace
-
 RaycastResult raycast_march(const RaycastFrameConstants& fc, const RaycastRay& ray, const RaycastTextures& tex)
 {
     RaycastResult out;
