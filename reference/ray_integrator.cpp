@@ -79,21 +79,16 @@ RayIntegrator::RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std:
     : mesh_(mesh), topo_(topo), field_(mesh.fields.at(field)), segment_(tf), embree_(std::make_unique<Embree>()),
       bounds_(mesh_bounds(mesh))
 {
-    // Gradient of the linear field in each tetrahedron: solve [e1; e2; e3] g = ds by Cramer's rule.
-    gradient_.resize(mesh.tets.size(), glm::dvec4(0.0));
-    for (std::size_t t = 0; t < mesh.tets.size(); ++t) {
-        const Tet& tet = mesh.tets[t];
-        const glm::dvec3 p0 = mesh.points[tet[0]];
-        const glm::dvec3 e1 = mesh.points[tet[1]] - p0, e2 = mesh.points[tet[2]] - p0, e3 = mesh.points[tet[3]] - p0;
-        const std::array<double, 4> v = tet_values(mesh, field_, t);
-        const double s0 = v[0];
-        const glm::dvec3 ds(v[1] - s0, v[2] - s0, v[3] - s0);
-        const double det = glm::dot(e1, glm::cross(e2, e3));
-        gradient_[t].w = s0;
-        if (det == 0.0) continue;  // a flat cell: never entered
-        // Rows of the inverse of [e1; e2; e3] are the columns (e2 x e3, e3 x e1, e1 x e2) / det.
-        const glm::dvec3 g = (ds.x * glm::cross(e2, e3) + ds.y * glm::cross(e3, e1) + ds.z * glm::cross(e1, e2)) / det;
-        gradient_[t] = glm::dvec4(g, s0);
+    values_.resize(mesh.tets.size());
+    for (std::size_t t = 0; t < mesh.tets.size(); ++t) values_[t] = tet_values(mesh, field_, t);
+    walk_tets_ = mesh.tets.data();
+    bool repeated = false;
+    for (std::size_t i = 0; i < topo.canonical.size() && !repeated; ++i) repeated = topo.canonical[i] != i;
+    if (repeated) {
+        canonical_tets_ = mesh.tets;
+        for (Tet& tet : canonical_tets_)
+            for (uint32_t& v : tet) v = topo.canonical[v];
+        walk_tets_ = canonical_tets_.data();
     }
 
     if (mesh.tets.size() >= (std::size_t(1) << 29))
@@ -148,24 +143,198 @@ RayIntegrator::RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std:
 
 RayIntegrator::~RayIntegrator() = default;
 
-double RayIntegrator::scalar_at(uint32_t t, const glm::dvec3& p) const
+glm::dvec4 RayIntegrator::gradient(uint32_t t) const
 {
-    const glm::dvec4& g = gradient_[t];
-    return g.w + glm::dot(glm::dvec3(g), p - mesh_.points[mesh_.tets[t][0]]);
+    // Solve [e1; e2; e3] g = ds by Cramer's rule: the rows of the inverse are (e2 x e3, e3 x e1, e1 x e2) / det.
+    const Tet& tet = walk_tets_[t];
+    const std::array<double, 4>& v = values_[t];
+    const glm::dvec3 p0 = mesh_.points[tet[0]];
+    const glm::dvec3 e1 = mesh_.points[tet[1]] - p0, e2 = mesh_.points[tet[2]] - p0, e3 = mesh_.points[tet[3]] - p0;
+    const glm::dvec3 ds(v[1] - v[0], v[2] - v[0], v[3] - v[0]);
+    const double det = glm::dot(e1, glm::cross(e2, e3));
+    if (det == 0.0) return glm::dvec4(0.0, 0.0, 0.0, v[0]);  // a flat cell: never entered
+    const glm::dvec3 g = (ds.x * glm::cross(e2, e3) + ds.y * glm::cross(e3, e1) + ds.z * glm::cross(e1, e2)) / det;
+    return glm::dvec4(g, v[0]);
+}
+
+// A vertex of the current tetrahedron seen along the ray (Shear): its position (u, v) in the plane across the ray and
+// its ray parameter z, its canonical point, the current tetrahedron's value s there and the vertex's local index in
+// that tetrahedron.
+struct RayIntegrator::Seen {
+    double u, v, z, s;
+    uint32_t id;
+    int local;
+
+    // Twice the signed area of the triangle (ray, p, q) in the plane: > 0 when the ray passes to the left of the edge
+    // p -> q. Rounding gives fl(a - b) = -fl(b - a), so an edge has one value, negated with its direction, whichever
+    // tetrahedron asks: the walk cannot slip between two cells round an edge.
+    static double side(const Seen& p, const Seen& q) { return p.u * q.v - p.v * q.u; }
+
+    // Whether the ray passes left of p -> q, where `e` = side(p, q). An exact zero (the ray through the edge's line)
+    // is decided as if the ray were moved by (eps, eps^2) in the plane (simulation of simplicity): by p.v - q.v, then
+    // by q.u - p.u; two points on one line of sight (an edge along the ray) by their canonical indices. Every decision
+    // is antisymmetric in p and q, so a tie is broken the same way in every tetrahedron round the edge.
+    static bool passes_left(const Seen& p, const Seen& q, double e)
+    {
+        if (e != 0.0) return e > 0.0;
+        if (p.v != q.v) return p.v > q.v;
+        if (p.u != q.u) return q.u > p.u;
+        return p.id < q.id;
+    }
+};
+
+// The ray's shear (Woop, Benthin and Wald, "Watertight Ray/Triangle Intersection", JCGT 2013): with kz the axis along
+// which the direction is largest, a point q relative to the origin is seen at u = q[kx] + sx q[kz],
+// v = q[ky] + sy q[kz] in a plane across the ray (the ray itself at (0, 0)), and z = q[kz] / dir[kz] is the ray
+// parameter of every point on the ray.
+struct RayIntegrator::Shear {
+    glm::dvec3 origin;
+    int kx, ky, kz;
+    double sx, sy, inv_dz;
+
+    explicit Shear(const Ray& ray) : origin(ray.origin)
+    {
+        const glm::dvec3 a = glm::abs(ray.dir);
+        kz = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
+        kx = (kz + 1) % 3;
+        ky = (kx + 1) % 3;
+        inv_dz = 1.0 / ray.dir[kz];
+        sx = -ray.dir[kx] * inv_dz;
+        sy = -ray.dir[ky] * inv_dz;
+    }
+
+    Seen see(const glm::dvec3& p, uint32_t id, double s, int local) const
+    {
+        const glm::dvec3 q = p - origin;
+        return {q[kx] + sx * q[kz], q[ky] + sy * q[kz], q[kz] * inv_dz, s, id, local};
+    }
+};
+
+bool RayIntegrator::composite_step(double t_in, double t1, double s_in, double s_out, double t_clip, glm::dvec4& acc,
+                                   int& zero_steps) const
+{
+    if (t1 > t_in) {
+        if (t1 > t_clip) {
+            // The part at t >= t_clip: the scalar is linear along the segment inside one tetrahedron.
+            const double t0 = std::max(t_in, t_clip);
+            const double s0 = t0 == t_in ? s_in : s_in + (s_out - s_in) * ((t0 - t_in) / (t1 - t_in));
+            acc = composite_over(acc, segment_.integrate(s0, s_out, t1 - t0));
+        }
+        zero_steps = 0;
+        return true;
+    }
+    return ++zero_steps <= kMaxZeroLengthSteps;
 }
 
 template <class OnStep>
-int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, double t_clip, glm::dvec4& acc, double& t_out,
-                            RayStats& stats, OnStep on_step) const
+int32_t RayIntegrator::walk(const Ray& ray, const Shear& sh, int32_t face, double t_in, double t_clip, glm::dvec4& acc,
+                            double& t_out, RayStats& stats, OnStep on_step) const
 {
-    const Face& entry = topo_.faces[std::size_t(face)];
-    uint32_t tet = uint32_t(entry.tet[0]);
+    const uint32_t tet = uint32_t(topo_.faces[std::size_t(face)].tet[0]);
     int entry_local = 0;
     while (topo_.tet_faces[tet][entry_local] != face) ++entry_local;
-    double s_in = scalar_at(tet, ray.origin + t_in * ray.dir);
+    // The entry face's vertices, ordered counter-clockwise as the ray sees them.
+    Seen f[3];
+    for (int i = 0, n = 0; i < 4; ++i)
+        if (i != entry_local) f[n++] = sh.see(mesh_.points[walk_tets_[tet][i]], walk_tets_[tet][i], values_[tet][i], i);
+    double e[3] = {Seen::side(f[0], f[1]), Seen::side(f[1], f[2]), Seen::side(f[2], f[0])};
+    if (e[0] + e[1] + e[2] < 0.0) {
+        std::swap(f[1], f[2]);
+        e[0] = Seen::side(f[0], f[1]);
+        e[1] = Seen::side(f[1], f[2]);
+        e[2] = Seen::side(f[2], f[0]);
+    }
+    const double w = e[0] + e[1] + e[2];
+    // Embree decides the entry in float: a ray within its rounding of the face's edge may pass just outside the face
+    // by the walk's tests. Such a run is walked by the faces' planes, which need no inside.
+    if (w > 0.0 && Seen::passes_left(f[0], f[1], e[0]) && Seen::passes_left(f[1], f[2], e[1]) &&
+        Seen::passes_left(f[2], f[0], e[2])) {
+        // The ray's point on the face by its barycentric weights, each the side of the edge opposite its vertex.
+        const double s_in = (e[1] * f[0].s + e[2] * f[1].s + e[0] * f[2].s) / w;
+        return walk_seen(sh, tet, f, e, t_in, s_in, t_clip, acc, t_out, stats, on_step);
+    }
+    ++stats.plane_walks;
+    return walk_planes(ray, tet, entry_local, t_in, t_clip, acc, t_out, stats, on_step);
+}
+
+// The walk by the points seen along the ray. The ray enters `tet` through face f (counter-clockwise, the ray inside it
+// by passes_left; e[i] = side(f[i], f[i+1])); the tetrahedron's fourth vertex d splits the face's view into the three
+// faces it makes with f's edges, and the ray leaves through (f[i], f[i+1], d) where it passes right of f[i] -> d and
+// left of f[i+1] -> d. The line from d through the ray separates f's vertices into two non-empty groups (the ray is
+// inside f), so exactly one i qualifies, and the ray is inside the exit face as it was inside the entry face: the walk
+// needs no other test and cannot fail. One new point a step.
+template <class OnStep>
+int32_t RayIntegrator::walk_seen(const Shear& sh, uint32_t tet, Seen f[3], double e[3], double t_in, double s_in,
+                                 double t_clip, glm::dvec4& acc, double& t_out, RayStats& stats, OnStep on_step) const
+{
     int zero_steps = 0;
     for (;;) {
-        const Tet& T = mesh_.tets[tet];
+        const int ld = 6 - f[0].local - f[1].local - f[2].local;
+        const uint32_t id = walk_tets_[tet][ld];
+        const Seen d = sh.see(mesh_.points[id], id, values_[tet][ld], ld);
+        const double ed[3] = {Seen::side(f[0], d), Seen::side(f[1], d), Seen::side(f[2], d)};
+        const bool left[3] = {Seen::passes_left(f[0], d, ed[0]), Seen::passes_left(f[1], d, ed[1]),
+                              Seen::passes_left(f[2], d, ed[2])};
+        const int i = !left[0] && left[1] ? 0 : !left[1] && left[2] ? 1 : 2;
+        const int j = i == 2 ? 0 : i + 1, k = j == 2 ? 0 : j + 1;  // f[k] is the vertex the exit face leaves out
+        // Barycentric weights of the ray's point on the exit face (f[i], f[j], d), all >= 0.
+        const double wi = ed[j], wj = -ed[i], wd = e[i];
+        const double w = wi + wj + wd;
+        const double inv_w = w > 0.0 ? 1.0 / w : 0.0;
+        const double t_exit = w > 0.0 ? (wi * f[i].z + wj * f[j].z + wd * d.z) * inv_w : t_in;
+        const double s_out = w > 0.0 ? (wi * f[i].s + wj * f[j].s + wd * d.s) * inv_w : s_in;
+        ++stats.segments;
+        on_step(tet);
+        const double t1 = std::max(t_in, t_exit);
+        if (!composite_step(t_in, t1, s_in, s_out, t_clip, acc, zero_steps)) {
+            ++stats.failures;
+            t_out = t1;
+            return -1;
+        }
+        const int exit_local = f[k].local;
+        const uint32_t next = next_[tet][exit_local];
+        t_in = t1;
+        if (next == kNoNeighbor || acc.a >= kReferenceOpaque) {
+            t_out = t1;
+            return topo_.tet_faces[tet][exit_local];
+        }
+        tet = next >> 3;
+        const Seen fi = f[i], fj = f[j];
+        f[0] = fi;
+        f[1] = fj;
+        f[2] = d;
+        const double e0 = e[i];
+        e[0] = e0;
+        e[1] = ed[j];
+        e[2] = -ed[i];
+        // The face's vertices by their local indices in the next tetrahedron (its vertex `next & 3` is the new one).
+        const Tet& nt = walk_tets_[tet];
+        for (int n = 0; n < 3; ++n) {
+            int m = 0;
+            while (m < 3 && nt[m] != f[n].id) ++m;
+            f[n].local = m;
+        }
+        s_in = s_out;
+        if (next & kJumpBit) {
+            // The field jumps across the face: the next tetrahedron's own values at the same point.
+            for (int n = 0; n < 3; ++n) f[n].s = values_[tet][f[n].local];
+            if (w > 0.0) s_in = (wi * f[0].s + wj * f[1].s + wd * f[2].s) * inv_w;
+        }
+    }
+}
+
+template <class OnStep>
+int32_t RayIntegrator::walk_planes(const Ray& ray, uint32_t tet, int entry_local, double t_in, double t_clip,
+                                   glm::dvec4& acc, double& t_out, RayStats& stats, OnStep on_step) const
+{
+    glm::dvec4 g = gradient(tet);
+    const auto scalar_at = [&](const glm::dvec4& grad, uint32_t t, const glm::dvec3& p) {
+        return grad.w + glm::dot(glm::dvec3(grad), p - mesh_.points[walk_tets_[t][0]]);
+    };
+    double s_in = scalar_at(g, tet, ray.origin + t_in * ray.dir);
+    int zero_steps = 0;
+    for (;;) {
+        const Tet& T = walk_tets_[tet];
         // Outward face normals from the edge vectors of vertex 0 (the orders of tet_face): the face opposite vertex
         // i is n[i]. Face 0 does not contain vertex 0; its normal is minus the sum of the others (the area vectors of
         // a closed surface sum to zero).
@@ -176,8 +345,8 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, double t_
         n[2] = glm::cross(e1, e3);
         n[3] = glm::cross(e2, e1);
         n[0] = -(n[1] + n[2] + n[3]);
-        const glm::dvec3 w = a - ray.origin;     // faces 1, 2, 3 contain vertex 0
-        const glm::dvec3 w0 = w + e1;            // face 0 contains vertex 1
+        const glm::dvec3 w = a - ray.origin;  // faces 1, 2, 3 contain vertex 0
+        const glm::dvec3 w0 = w + e1;         // face 0 contains vertex 1
         // Exit: among the faces the ray leaves through (outward normal along the ray), the plane it crosses first,
         // t_i = num_i / den_i with den_i > 0, compared by cross-multiplication so that only the winner is divided.
         // Ties (the ray through an edge or a vertex) go to the lowest local face index; a pass through the edge's
@@ -204,17 +373,8 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, double t_
             return -1;
         }
         const double t1 = std::max(t_in, best_num / best_den);
-        const glm::dvec4& g = gradient_[tet];
         const double s_out = g.w + glm::dot(glm::dvec3(g), (t1 * ray.dir) - w);
-        if (t1 > t_in) {
-            if (t1 > t_clip) {
-                // The part at t >= t_clip: the scalar is linear along the segment inside one tetrahedron.
-                const double t0 = std::max(t_in, t_clip);
-                const double s0 = t0 == t_in ? s_in : s_in + (s_out - s_in) * ((t0 - t_in) / (t1 - t_in));
-                acc = composite_over(acc, segment_.integrate(s0, s_out, t1 - t0));
-            }
-            zero_steps = 0;
-        } else if (++zero_steps > kMaxZeroLengthSteps) {
+        if (!composite_step(t_in, t1, s_in, s_out, t_clip, acc, zero_steps)) {
             ++stats.failures;
             t_out = t1;
             return -1;
@@ -227,9 +387,10 @@ int32_t RayIntegrator::walk(const Ray& ray, int32_t face, double t_in, double t_
         }
         tet = next >> 3;
         entry_local = int(next & 3u);
+        g = gradient(tet);
         // Where the field is continuous across the face, the exit value is the next tetrahedron's entry value; where it
         // jumps, the next tetrahedron's own field at the entry point.
-        s_in = (next & kJumpBit) ? scalar_at(tet, ray.origin + t1 * ray.dir) : s_out;
+        s_in = (next & kJumpBit) ? scalar_at(g, tet, ray.origin + t1 * ray.dir) : s_out;
     }
 }
 
@@ -251,6 +412,7 @@ glm::dvec4 RayIntegrator::trace(const Ray& in, RayStats& stats, std::vector<RayR
     std::vector<int32_t> used;
     double t_min = 0.0;
     const glm::dvec3 o = ray.origin - E.shift;
+    const Shear shear(ray);
     for (;;) {
         EntryContext ctx;
         rtcInitIntersectContext(&ctx.base);
@@ -290,7 +452,7 @@ glm::dvec4 RayIntegrator::trace(const Ray& in, RayStats& stats, std::vector<RayR
         ++stats.entries;
         double t_out = t_in;
         glm::dvec4 run(0.0);
-        const int32_t left = walk(ray, face, t_in, back, runs ? run : acc, t_out, stats, on_step);
+        const int32_t left = walk(ray, shear, face, t_in, back, runs ? run : acc, t_out, stats, on_step);
         // A run's own opacity hides what lies behind it on this ray as the whole accumulator's does.
         const double alpha = runs ? run.a : acc.a;
         if (runs && t_out > back) runs->push_back({std::max(t_in, back) - back, t_out - back, run});

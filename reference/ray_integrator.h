@@ -1,11 +1,11 @@
 // The ground truth: exact emission-absorption integration along rays through a tetrahedral mesh.
 //
 // Embree finds where a ray enters the mesh through its boundary (and re-enters a non-convex mesh); inside, the ray
-// walks from tetrahedron to tetrahedron through shared faces in double precision. In each tetrahedron the scalar is
-// linear (constant for a cell field) in the tetrahedron's own values, so each step is one segment of docs/spec.md §1,
-// integrated in closed form (segment_integral.h) and composited front to back; across a face where the field jumps the
-// next segment starts from the next tetrahedron's value. See docs/reference.md for the exit-face rule, the tie-breaking
-// and why the walk is watertight.
+// walks from tetrahedron to tetrahedron through shared faces in double precision, deciding each exit face from the
+// mesh's points seen along the ray. In each tetrahedron the scalar is linear (constant for a cell field) in the
+// tetrahedron's own values, so each step is one segment of docs/spec.md §1, integrated in closed form
+// (segment_integral.h) and composited front to back; across a face where the field jumps the next segment starts from
+// the next tetrahedron's value. See docs/reference.md for the exit-face rule, its ties and why the walk is watertight.
 #pragma once
 
 #include <cstdint>
@@ -27,6 +27,7 @@ struct RayStats {
     uint64_t segments = 0;       // tetrahedra traversed (including zero-length passes through edges and vertices)
     uint64_t entries = 0;        // times the ray entered the mesh through its boundary
     uint64_t failures = 0;       // rays abandoned by the walk's guards (must stay 0; reported, never hidden)
+    uint64_t plane_walks = 0;    // runs walked by the faces' planes: entered just outside the entry face (walk())
 };
 
 // One run of a ray through the mesh: its distances along the ray (t_in <= t_out) and its premultiplied RGBA.
@@ -62,9 +63,6 @@ public:
     // The mesh's bounds: no ray meets a cell outside them.
     const Bounds& bounds() const { return bounds_; }
 
-    // The scalar at world point p inside tetrahedron t (linear interpolation).
-    double scalar_at(uint32_t t, const glm::dvec3& p) const;
-
 private:
     struct Embree;
     // The loop over the ray's entries through the boundary: with `runs` null, every walk composites into one
@@ -74,17 +72,37 @@ private:
     glm::dvec4 trace(const Ray& ray, RayStats& stats, std::vector<RayRun>* runs, OnStep on_step) const;
     // The walk from boundary face `face` entered at ray parameter t_in, compositing into acc what lies at t >= t_clip;
     // returns the boundary face it leaves through and sets t_out.
+    struct Shear;
+    struct Seen;
+    // The walk from boundary face `face` entered at ray parameter t_in, compositing into acc what lies at t >= t_clip;
+    // returns the boundary face it leaves through and sets t_out. It walks by the points seen along the ray
+    // (walk_seen) when the ray passes through the entry face by that walk's own tests, else by the faces' planes.
     template <class OnStep>
-    int32_t walk(const Ray& ray, int32_t face, double t_in, double t_clip, glm::dvec4& acc, double& t_out,
-                 RayStats& stats, OnStep on_step) const;
+    int32_t walk(const Ray& ray, const Shear& shear, int32_t face, double t_in, double t_clip, glm::dvec4& acc,
+                 double& t_out, RayStats& stats, OnStep on_step) const;
+    template <class OnStep>
+    int32_t walk_seen(const Shear& shear, uint32_t tet, Seen f[3], double e[3], double t_in, double s_in, double t_clip,
+                      glm::dvec4& acc, double& t_out, RayStats& stats, OnStep on_step) const;
+    template <class OnStep>
+    int32_t walk_planes(const Ray& ray, uint32_t tet, int entry_local, double t_in, double t_clip, glm::dvec4& acc,
+                        double& t_out, RayStats& stats, OnStep on_step) const;
+    // One step's segment from t_in to t1 (scalar s_in to s_out), composited into acc where it lies at t >= t_clip.
+    // Counts consecutive zero-length steps in zero_steps; false once there are more than kMaxZeroLengthSteps.
+    bool composite_step(double t_in, double t1, double s_in, double s_out, double t_clip, glm::dvec4& acc,
+                        int& zero_steps) const;
+    // The linear field of tetrahedron t as its gradient (xyz) and its value at vertex 0 (w).
+    glm::dvec4 gradient(uint32_t t) const;
 
     const TetMesh& mesh_;
     const MeshTopology& topo_;
     const ScalarField& field_;
     SegmentIntegrator segment_;
-    // Per tetrahedron: the field's gradient (xyz) and its value at vertex 0 (w), together so that a step reads one
-    // record: s(p) = w + xyz . (p - p0).
-    std::vector<glm::dvec4> gradient_;
+    // Per tetrahedron: the field's values at its four vertices (equal for a cell field).
+    std::vector<std::array<double, 4>> values_;
+    // The tetrahedra by canonical point (MeshTopology::canonical), so that a vertex is one point wherever a file
+    // repeats it: the mesh's own tetrahedra when no point is repeated, else `canonical_tets_`.
+    const Tet* walk_tets_ = nullptr;
+    std::vector<Tet> canonical_tets_;
     // Per tetrahedron and local face: the neighbour across it, whether the field jumps across the face, and the shared
     // face's local index in the neighbour, packed as (tet << 3) | jump << 2 | local, or kNoNeighbor on the boundary.
     // Saves the walk a search per step.
