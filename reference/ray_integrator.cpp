@@ -95,7 +95,8 @@ RayIntegrator::RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std:
         throw InputError(mesh.source, "more than 2^29 tetrahedra: the walk packs tetrahedron indices into 29 bits");
     // Whether the field jumps across a face is decided here, once, so that a continuous field costs the walk nothing.
     const std::vector<uint8_t> jump = field_jump_faces(mesh, topo, field_);
-    next_.assign(mesh.tets.size(), {kNoNeighbor, kNoNeighbor, kNoNeighbor, kNoNeighbor});
+    next_.assign(mesh.tets.size(),
+                 {Link{kNoNeighbor, 0}, Link{kNoNeighbor, 0}, Link{kNoNeighbor, 0}, Link{kNoNeighbor, 0}});
     for (std::size_t t = 0; t < mesh.tets.size(); ++t)
         for (int i = 0; i < 4; ++i) {
             const int32_t nb = topo.neighbor[t][i];
@@ -103,7 +104,8 @@ RayIntegrator::RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std:
             const int32_t face = topo.tet_faces[t][i];
             int k = 0;
             while (topo.tet_faces[std::size_t(nb)][k] != face) ++k;
-            next_[t][i] = (uint32_t(nb) << 3) | (jump[std::size_t(face)] ? kJumpBit : 0u) | uint32_t(k);
+            next_[t][i] = {(uint32_t(nb) << 3) | (jump[std::size_t(face)] ? kJumpBit : 0u) | uint32_t(k),
+                           walk_tets_[std::size_t(nb)][k]};
         }
 
     Embree& E = *embree_;
@@ -263,14 +265,49 @@ int32_t RayIntegrator::walk(const Ray& ray, const Shear& sh, int32_t face, doubl
 // left of f[i+1] -> d. The line from d through the ray separates f's vertices into two non-empty groups (the ray is
 // inside f), so exactly one i qualifies, and the ray is inside the exit face as it was inside the entry face: the walk
 // needs no other test and cannot fail. One new point a step.
+namespace {
+
+// One step of the walk by points, its segment's integral deferred (walk_seen): the part at t >= t_clip, from scalar s0
+// to s1 over `length` (0: nothing to composite), the step's exit t1 and its tetrahedron.
+struct PendingStep {
+    double s0, s1, length, t1;
+    uint32_t tet;
+    int exit_local;
+};
+constexpr std::size_t kWalkBatch = 16;
+using StepBatch = std::array<PendingStep, kWalkBatch>;
+
+}  // namespace
+
 template <class OnStep>
 int32_t RayIntegrator::walk_seen(const Shear& sh, uint32_t tet, Seen f[3], double e[3], double t_in, double s_in,
                                  double t_clip, glm::dvec4& acc, double& t_out, RayStats& stats, OnStep on_step) const
 {
     int zero_steps = 0;
+    int ld = 6 - f[0].local - f[1].local - f[2].local;  // the fourth vertex: its local index and canonical point
+    uint32_t id = walk_tets_[tet][ld];
+    // Steps are walked kWalkBatch at a time and their segments integrated after, in order: the walk's unpredictable
+    // exit choices then do not discard integrals in flight. What the integrals decide (opacity) is applied in step
+    // order, so the colour, the counts and the end of the walk are those of one step at a time.
+    StepBatch batch;
+    std::size_t n = 0;
+    const PendingStep* opaque = nullptr;
+    const auto flush = [&] {
+        for (std::size_t b = 0; b < n; ++b) {
+            const PendingStep& p = batch[b];
+            ++stats.segments;
+            on_step(p.tet);
+            if (p.length > 0.0) acc = composite_over(acc, segment_.integrate(p.s0, p.s1, p.length));
+            if (acc.a >= kReferenceOpaque) {
+                opaque = &p;
+                n = 0;
+                return true;
+            }
+        }
+        n = 0;
+        return false;
+    };
     for (;;) {
-        const int ld = 6 - f[0].local - f[1].local - f[2].local;
-        const uint32_t id = walk_tets_[tet][ld];
         const Seen d = sh.see(mesh_.points[id], id, values_[tet][ld], ld);
         const double ed[3] = {Seen::side(f[0], d), Seen::side(f[1], d), Seen::side(f[2], d)};
         const bool left[3] = {Seen::passes_left(f[0], d, ed[0]), Seen::passes_left(f[1], d, ed[1]),
@@ -283,22 +320,40 @@ int32_t RayIntegrator::walk_seen(const Shear& sh, uint32_t tet, Seen f[3], doubl
         const double inv_w = w > 0.0 ? 1.0 / w : 0.0;
         const double t_exit = w > 0.0 ? (wi * f[i].z + wj * f[j].z + wd * d.z) * inv_w : t_in;
         const double s_out = w > 0.0 ? (wi * f[i].s + wj * f[j].s + wd * d.s) * inv_w : s_in;
-        ++stats.segments;
-        on_step(tet);
         const double t1 = std::max(t_in, t_exit);
-        if (!composite_step(t_in, t1, s_in, s_out, t_clip, acc, zero_steps)) {
+        PendingStep& p = batch[n++];
+        const int exit_local = f[k].local;
+        p.tet = tet;
+        p.exit_local = exit_local;
+        p.t1 = t1;
+        p.length = 0.0;
+        if (t1 > t_in && t1 > t_clip) {
+            // The part at t >= t_clip: the scalar is linear along the segment inside one tetrahedron.
+            const double t0 = std::max(t_in, t_clip);
+            p.s0 = t0 == t_in ? s_in : s_in + (s_out - s_in) * ((t0 - t_in) / (t1 - t_in));
+            p.s1 = s_out;
+            p.length = t1 - t0;
+        }
+        if (t1 > t_in) {
+            zero_steps = 0;
+        } else if (++zero_steps > kMaxZeroLengthSteps) {
+            if (flush()) break;
             ++stats.failures;
             t_out = t1;
             return -1;
         }
-        const int exit_local = f[k].local;
-        const uint32_t next = next_[tet][exit_local];
+        const Link link = next_[tet][exit_local];
+        const uint32_t next = link.next;
         t_in = t1;
-        if (next == kNoNeighbor || acc.a >= kReferenceOpaque) {
+        if (next == kNoNeighbor) {
+            if (flush()) break;
             t_out = t1;
             return topo_.tet_faces[tet][exit_local];
         }
+        if (n == batch.size() && flush()) break;
         tet = next >> 3;
+        ld = int(next & 3u);
+        id = link.vertex;
         const Seen fi = f[i], fj = f[j];
         f[0] = fi;
         f[1] = fj;
@@ -321,6 +376,9 @@ int32_t RayIntegrator::walk_seen(const Shear& sh, uint32_t tet, Seen f[3], doubl
             if (w > 0.0) s_in = (wi * f[0].s + wj * f[1].s + wd * f[2].s) * inv_w;
         }
     }
+    // Opaque: the walk ends where the step that made it so ends.
+    t_out = opaque->t1;
+    return topo_.tet_faces[opaque->tet][opaque->exit_local];
 }
 
 template <class OnStep>
@@ -379,7 +437,7 @@ int32_t RayIntegrator::walk_planes(const Ray& ray, uint32_t tet, int entry_local
             t_out = t1;
             return -1;
         }
-        const uint32_t next = next_[tet][exit_local];
+        const uint32_t next = next_[tet][exit_local].next;
         t_in = t1;
         if (next == kNoNeighbor || acc.a >= kReferenceOpaque) {
             t_out = t1;

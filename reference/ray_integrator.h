@@ -104,9 +104,14 @@ private:
     const Tet* walk_tets_ = nullptr;
     std::vector<Tet> canonical_tets_;
     // Per tetrahedron and local face: the neighbour across it, whether the field jumps across the face, and the shared
-    // face's local index in the neighbour, packed as (tet << 3) | jump << 2 | local, or kNoNeighbor on the boundary.
-    // Saves the walk a search per step.
-    std::vector<std::array<uint32_t, 4>> next_;
+    // face's local index in the neighbour, packed as (tet << 3) | jump << 2 | local, or kNoNeighbor on the boundary;
+    // and the neighbour's vertex opposite the face (its canonical point), which the walk by points sees next without
+    // waiting for the neighbour's vertex indices. Saves the walk a search per step.
+    struct Link {
+        uint32_t next;
+        uint32_t vertex;
+    };
+    std::vector<std::array<Link, 4>> next_;
     static constexpr uint32_t kNoNeighbor = 0xFFFFFFFFu;
     static constexpr uint32_t kJumpBit = 4u;
     std::unique_ptr<Embree> embree_;
