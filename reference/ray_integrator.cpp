@@ -267,15 +267,15 @@ int32_t RayIntegrator::walk(const Ray& ray, const Shear& sh, int32_t face, doubl
 // needs no other test and cannot fail. One new point a step.
 namespace {
 
-// One step of the walk by points, its segment's integral deferred (walk_seen): the part at t >= t_clip, from scalar s0
-// to s1 over `length` (0: nothing to composite), the step's exit t1 and its tetrahedron.
-struct PendingStep {
-    double s0, s1, length, t1;
-    uint32_t tet;
-    int exit_local;
-};
+// Steps of the walk by points whose segments' integrals are deferred (walk_seen), by step: the part at t >= t_clip,
+// from scalar s0 to s1 over `length` (0: nothing to composite), the step's exit t1, its tetrahedron and exit face.
 constexpr std::size_t kWalkBatch = 16;
-using StepBatch = std::array<PendingStep, kWalkBatch>;
+struct StepBatch {
+    double s0[kWalkBatch], s1[kWalkBatch], length[kWalkBatch], t1[kWalkBatch];
+    uint32_t tet[kWalkBatch];
+    int exit_local[kWalkBatch];
+    glm::dvec4 rgba[kWalkBatch];
+};
 
 }  // namespace
 
@@ -291,15 +291,15 @@ int32_t RayIntegrator::walk_seen(const Shear& sh, uint32_t tet, Seen f[3], doubl
     // order, so the colour, the counts and the end of the walk are those of one step at a time.
     StepBatch batch;
     std::size_t n = 0;
-    const PendingStep* opaque = nullptr;
+    std::size_t opaque = kWalkBatch;  // the step that made the ray opaque
     const auto flush = [&] {
+        segment_.integrate_many(n, batch.s0, batch.s1, batch.length, batch.rgba);
         for (std::size_t b = 0; b < n; ++b) {
-            const PendingStep& p = batch[b];
             ++stats.segments;
-            on_step(p.tet);
-            if (p.length > 0.0) acc = composite_over(acc, segment_.integrate(p.s0, p.s1, p.length));
+            on_step(batch.tet[b]);
+            if (batch.length[b] > 0.0) acc = composite_over(acc, batch.rgba[b]);
             if (acc.a >= kReferenceOpaque) {
-                opaque = &p;
+                opaque = b;
                 n = 0;
                 return true;
             }
@@ -321,19 +321,19 @@ int32_t RayIntegrator::walk_seen(const Shear& sh, uint32_t tet, Seen f[3], doubl
         const double t_exit = w > 0.0 ? (wi * f[i].z + wj * f[j].z + wd * d.z) * inv_w : t_in;
         const double s_out = w > 0.0 ? (wi * f[i].s + wj * f[j].s + wd * d.s) * inv_w : s_in;
         const double t1 = std::max(t_in, t_exit);
-        PendingStep& p = batch[n++];
         const int exit_local = f[k].local;
-        p.tet = tet;
-        p.exit_local = exit_local;
-        p.t1 = t1;
-        p.length = 0.0;
+        batch.tet[n] = tet;
+        batch.exit_local[n] = exit_local;
+        batch.t1[n] = t1;
+        batch.s0[n] = batch.s1[n] = batch.length[n] = 0.0;
         if (t1 > t_in && t1 > t_clip) {
             // The part at t >= t_clip: the scalar is linear along the segment inside one tetrahedron.
             const double t0 = std::max(t_in, t_clip);
-            p.s0 = t0 == t_in ? s_in : s_in + (s_out - s_in) * ((t0 - t_in) / (t1 - t_in));
-            p.s1 = s_out;
-            p.length = t1 - t0;
+            batch.s0[n] = t0 == t_in ? s_in : s_in + (s_out - s_in) * ((t0 - t_in) / (t1 - t_in));
+            batch.s1[n] = s_out;
+            batch.length[n] = t1 - t0;
         }
+        ++n;
         if (t1 > t_in) {
             zero_steps = 0;
         } else if (++zero_steps > kMaxZeroLengthSteps) {
@@ -350,7 +350,7 @@ int32_t RayIntegrator::walk_seen(const Shear& sh, uint32_t tet, Seen f[3], doubl
             t_out = t1;
             return topo_.tet_faces[tet][exit_local];
         }
-        if (n == batch.size() && flush()) break;
+        if (n == kWalkBatch && flush()) break;
         tet = next >> 3;
         ld = int(next & 3u);
         id = link.vertex;
@@ -377,8 +377,8 @@ int32_t RayIntegrator::walk_seen(const Shear& sh, uint32_t tet, Seen f[3], doubl
         }
     }
     // Opaque: the walk ends where the step that made it so ends.
-    t_out = opaque->t1;
-    return topo_.tet_faces[opaque->tet][opaque->exit_local];
+    t_out = batch.t1[opaque];
+    return topo_.tet_faces[batch.tet[opaque]][batch.exit_local[opaque]];
 }
 
 template <class OnStep>

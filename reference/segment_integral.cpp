@@ -5,6 +5,8 @@
 #include <cmath>
 #include <type_traits>
 
+#include <immintrin.h>
+
 #include "reference/special_functions.h"
 
 namespace uvr {
@@ -85,34 +87,94 @@ constexpr int kThinTerms = 7;  // the most terms a piece below kThinDepth needs 
 // ratio below 1/2). The first term left out, n = kThinTerms + 1, is below S^8 / 8!, under 1.7e-17 of the sum (>= S / 3)
 // for S = A + |B| < kThinDepth, so every piece takes all seven terms. They are summed as sum_j B^j P_j(A) with
 // P_j(A) = sum_n c_{n,j} A^{n-j} (Horner in A for each j, then in B): eight short chains a processor runs side by side.
-// The coefficients c_{n,j} = (-1)^{n+1} C(n, j) / (n! (n + j + 1)) come from a table built once. Derivation:
-// docs/reference.md, "Thin pieces".
+// The coefficients c_{n,j} = (-1)^{n+1} C(n, j) / (n! (n + j + 1)) come from a table computed at compile time.
+// Derivation: docs/reference.md, "Thin pieces". kThinCoef[j][m] = c_{j+m, j}: the coefficient of A^m in P_j (zero
+// where j + m is 0 or above kThinTerms).
+constexpr auto kThinCoef = [] {
+    std::array<std::array<double, kThinTerms + 1>, kThinTerms + 1> c{};
+    double fact = 1.0;
+    for (int n = 1; n <= kThinTerms; ++n) {
+        fact *= n;
+        double binom = 1.0;
+        for (int j = 0; j <= n; ++j) {
+            c[std::size_t(j)][std::size_t(n - j)] = (n % 2 ? 1.0 : -1.0) * binom / (fact * double(n + j + 1));
+            binom = binom * double(n - j) / double(j + 1);
+        }
+    }
+    return c;
+}();
+
 double thin_one_minus_j(double A, double B)
 {
-    // coef[j][m] = c_{j+m, j}: the coefficient of A^m in P_j (zero where j + m is 0 or above kThinTerms).
-    static constexpr auto coef = [] {
-        std::array<std::array<double, kThinTerms + 1>, kThinTerms + 1> c{};
-        double fact = 1.0;
-        for (int n = 1; n <= kThinTerms; ++n) {
-            fact *= n;
-            double binom = 1.0;
-            for (int j = 0; j <= n; ++j) {
-                c[std::size_t(j)][std::size_t(n - j)] = (n % 2 ? 1.0 : -1.0) * binom / (fact * double(n + j + 1));
-                binom = binom * double(n - j) / double(j + 1);
-            }
-        }
-        return c;
-    }();
     double w = 0.0;
 #pragma GCC unroll 8
     for (int j = kThinTerms; j >= 0; --j) {
-        const auto& c = coef[std::size_t(j)];
+        const auto& c = kThinCoef[std::size_t(j)];
         double p = 0.0;
 #pragma GCC unroll 8
         for (int m = kThinTerms - j; m >= 0; --m) p = p * A + c[std::size_t(m)];
         w = w * B + p;
     }
     return w;
+}
+
+// Eight thin pieces at once in two sets of AVX2 lanes (A + |B| < kThinDepth for every lane, so depth < 1/32 too),
+// the two sets' chains interleaved: the operations of opacity_of_depth, thin_one_minus_j and integrate_linear_piece in
+// the same order, one IEEE operation per lane for each scalar one (no fused multiply-add: the target is AVX2 alone),
+// hence the same bits. Inputs and outputs are arrays of kThinLanes; c0 and c1 and out by channel.
+constexpr std::size_t kThinLanes = 8;
+__attribute__((target("avx2"))) void thin_pieces_avx2(const double* A, const double* B, const double* depth,
+                                                      const double* c0, const double* c1, double* out)
+{
+    constexpr int kSets = int(kThinLanes / 4);
+    __m256d a[kSets], b[kSets], d[kSets], alpha[kSets], w0[kSets], w1[kSets];
+#pragma GCC unroll 2
+    for (int h = 0; h < kSets; ++h) {
+        a[h] = _mm256_loadu_pd(A + 4 * h);
+        b[h] = _mm256_loadu_pd(B + 4 * h);
+        d[h] = _mm256_loadu_pd(depth + 4 * h);
+        const __m256d d2 = _mm256_mul_pd(d[h], d[h]), d4 = _mm256_mul_pd(d2, d2);
+        const __m256d p01 = _mm256_sub_pd(_mm256_set1_pd(1.0), _mm256_mul_pd(d[h], _mm256_set1_pd(0.5)));
+        const __m256d p23 = _mm256_sub_pd(_mm256_set1_pd(1.0 / 6.0), _mm256_mul_pd(d[h], _mm256_set1_pd(1.0 / 24.0)));
+        const __m256d p45 =
+            _mm256_sub_pd(_mm256_set1_pd(1.0 / 120.0), _mm256_mul_pd(d[h], _mm256_set1_pd(1.0 / 720.0)));
+        const __m256d p67 =
+            _mm256_sub_pd(_mm256_set1_pd(1.0 / 5040.0), _mm256_mul_pd(d[h], _mm256_set1_pd(1.0 / 40320.0)));
+        alpha[h] = _mm256_mul_pd(d[h], _mm256_add_pd(_mm256_add_pd(p01, _mm256_mul_pd(d2, p23)),
+                                                     _mm256_mul_pd(d4, _mm256_add_pd(p45, _mm256_mul_pd(d2, p67)))));
+        w0[h] = _mm256_setzero_pd();
+    }
+#pragma GCC unroll 8
+    for (int j = kThinTerms; j >= 0; --j) {
+        const auto& c = kThinCoef[std::size_t(j)];
+        __m256d p[kSets];
+#pragma GCC unroll 2
+        for (int h = 0; h < kSets; ++h) p[h] = _mm256_setzero_pd();
+#pragma GCC unroll 8
+        for (int m = kThinTerms - j; m >= 0; --m)
+#pragma GCC unroll 2
+            for (int h = 0; h < kSets; ++h)
+                p[h] = _mm256_add_pd(_mm256_mul_pd(p[h], a[h]), _mm256_set1_pd(c[std::size_t(m)]));
+#pragma GCC unroll 2
+        for (int h = 0; h < kSets; ++h) w0[h] = _mm256_add_pd(_mm256_mul_pd(w0[h], b[h]), p[h]);
+    }
+#pragma GCC unroll 2
+    for (int h = 0; h < kSets; ++h) {
+        w1[h] = _mm256_sub_pd(alpha[h], w0[h]);
+        for (int ch = 0; ch < 3; ++ch) {
+            const std::size_t at = std::size_t(ch) * kThinLanes + std::size_t(4 * h);
+            const __m256d x = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(c0 + at), w0[h]),
+                                            _mm256_mul_pd(_mm256_loadu_pd(c1 + at), w1[h]));
+            _mm256_storeu_pd(out + at, x);
+        }
+        _mm256_storeu_pd(out + 3 * kThinLanes + std::size_t(4 * h), alpha[h]);
+    }
+}
+
+bool host_has_avx2()
+{
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    return avx2;
 }
 
 }  // namespace
@@ -231,6 +293,63 @@ glm::dvec4 SegmentIntegrator::integrate(double s_front, double s_back, double le
         t_prev = t;
     }
     return composite_over(acc, integrate_piece(pieces_[k], s_prev, s_back, length - t_prev));
+}
+
+const SegmentIntegrator::Piece* SegmentIntegrator::single_piece(double s_front, double s_back) const
+{
+    if (s_back >= s_front) {
+        const std::size_t k = std::size_t(std::upper_bound(breaks_.begin(), breaks_.end(), s_front) - breaks_.begin());
+        return k == breaks_.size() || !(breaks_[k] < s_back) ? &pieces_[k] : nullptr;
+    }
+    const std::size_t k = std::size_t(std::lower_bound(breaks_.begin(), breaks_.end(), s_front) - breaks_.begin());
+    return k == 0 || !(breaks_[k - 1] > s_back) ? &pieces_[k] : nullptr;
+}
+
+void SegmentIntegrator::integrate_many(std::size_t n, const double* s_front, const double* s_back, const double* length,
+                                       glm::dvec4* out) const
+{
+    if (!host_has_avx2()) {
+        for (std::size_t i = 0; i < n; ++i) out[i] = integrate(s_front[i], s_back[i], length[i]);
+        return;
+    }
+    // The thin pieces that lie in one interval of the transfer function, kThinLanes at a time: their A, B, depth and
+    // end colours exactly as integrate_piece and integrate_linear_piece compute them, gathered by lane.
+    constexpr std::size_t kLanes = kThinLanes;
+    double A[kLanes], B[kLanes], depth[kLanes], c0[3 * kLanes], c1[3 * kLanes], lanes_out[4 * kLanes];
+    std::size_t index[kLanes], m = 0;
+    const auto run_lanes = [&] {
+        for (std::size_t l = m; l < kLanes; ++l) A[l] = B[l] = depth[l] = 0.0;  // idle lanes compute zeros
+        thin_pieces_avx2(A, B, depth, c0, c1, lanes_out);
+        for (std::size_t l = 0; l < m; ++l)
+            out[index[l]] = {lanes_out[l], lanes_out[kLanes + l], lanes_out[2 * kLanes + l], lanes_out[3 * kLanes + l]};
+        m = 0;
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+        const double L = length[i];
+        const Piece* p = L > 0.0 ? single_piece(s_front[i], s_back[i]) : nullptr;
+        if (!p) {
+            out[i] = integrate(s_front[i], s_back[i], L);
+            continue;
+        }
+        const double sa = s_front[i], sb = s_back[i];
+        const glm::dvec3 ca = p->c + p->dc * (sa - p->lo), cb = p->c + p->dc * (sb - p->lo);
+        const double tau0 = p->tau + p->dtau * (sa - p->lo), tau1 = p->tau + p->dtau * (sb - p->lo);
+        const double a = tau0 * L, b = 0.5 * (tau1 - tau0) * L;
+        if (!(a + std::fabs(b) < kThinDepth)) {
+            out[i] = integrate_linear_piece(ca, cb, tau0, tau1, L);
+            continue;
+        }
+        A[m] = a;
+        B[m] = b;
+        depth[m] = 0.5 * (tau0 + tau1) * L;
+        for (int ch = 0; ch < 3; ++ch) {
+            c0[std::size_t(ch) * kLanes + m] = ca[ch];
+            c1[std::size_t(ch) * kLanes + m] = cb[ch];
+        }
+        index[m++] = i;
+        if (m == kLanes) run_lanes();
+    }
+    if (m > 0) run_lanes();
 }
 
 }  // namespace uvr

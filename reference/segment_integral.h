@@ -46,6 +46,11 @@ public:
     // contributes nothing.
     glm::dvec4 integrate(double s_front, double s_back, double length) const;
 
+    // out[i] = integrate(s_front[i], s_back[i], length[i]) for i < n, the same bits; thin pieces within one interval of
+    // the transfer function eight at a time in AVX2 lanes where the processor has them.
+    void integrate_many(std::size_t n, const double* s_front, const double* s_back, const double* length,
+                        glm::dvec4* out) const;
+
     const TransferFunction& transfer_function() const { return tf_; }
 
 private:
@@ -59,6 +64,9 @@ private:
         double tau, dtau;
     };
     glm::dvec4 integrate_piece(const Piece& p, double sa, double sb, double length) const;
+    // The piece holding the whole segment from s_front to s_back, as integrate() finds it; null where it crosses a
+    // breakpoint.
+    const Piece* single_piece(double s_front, double s_back) const;
 
     TransferFunction tf_;
     std::vector<double> breaks_;
