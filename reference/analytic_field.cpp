@@ -71,11 +71,11 @@ Image render_analytic(const AnalyticField& field, const Bounds& box, const Trans
 {
     Image img(width, height);
     const SegmentIntegrator segment(tf);
+    const CameraRays rays(camera, width, height);
     tbb::parallel_for(tbb::blocked_range2d<int>(0, height, 16, 0, width, 16), [&](const tbb::blocked_range2d<int>& r) {
         for (int j = r.rows().begin(); j < r.rows().end(); ++j)
             for (int i = r.cols().begin(); i < r.cols().end(); ++i) {
-                const glm::dvec4 c =
-                    integrate_analytic(field, box, segment, camera_ray(camera, width, height, i, j), tolerance);
+                const glm::dvec4 c = integrate_analytic(field, box, segment, rays(i, j), tolerance);
                 float* px = img.pixel(i, j);
                 for (int k = 0; k < 4; ++k) px[k] = float(c[k]);
             }

@@ -28,16 +28,25 @@ CameraFrame camera_frame(const Camera& cam)
 
 Ray camera_ray(const Camera& cam, int width, int height, double i, double j)
 {
-    const CameraFrame fr = camera_frame(cam);
-    const double x = 2.0 * (i + 0.5) / width - 1.0;
-    const double y = 1.0 - 2.0 * (j + 0.5) / height;
-    const double aspect = double(width) / double(height);
-    if (cam.orthographic) {
-        const double h = 0.5 * cam.ortho_height;
-        return {cam.eye + x * h * aspect * fr.r + y * h * fr.u, fr.f};
-    }
-    const double t = std::tan(0.5 * radians(cam.fovy_deg));
-    return {cam.eye, glm::normalize(fr.f + x * t * aspect * fr.r + y * t * fr.u)};
+    return CameraRays(cam, width, height)(i, j);
+}
+
+CameraRays::CameraRays(const Camera& cam, int width, int height)
+    : cam_(cam),
+      fr_(camera_frame(cam)),
+      width_(width),
+      height_(height),
+      aspect_(double(width) / double(height)),
+      half_(cam.orthographic ? 0.5 * cam.ortho_height : std::tan(0.5 * radians(cam.fovy_deg)))
+{
+}
+
+Ray CameraRays::operator()(double i, double j) const
+{
+    const double x = 2.0 * (i + 0.5) / width_ - 1.0;
+    const double y = 1.0 - 2.0 * (j + 0.5) / height_;
+    if (cam_.orthographic) return {cam_.eye + x * half_ * aspect_ * fr_.r + y * half_ * fr_.u, fr_.f};
+    return {cam_.eye, glm::normalize(fr_.f + x * half_ * aspect_ * fr_.r + y * half_ * fr_.u)};
 }
 
 PixelRect pixels_covering(const Camera& cam, int width, int height, const Bounds& b)

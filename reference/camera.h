@@ -32,6 +32,19 @@ CameraFrame camera_frame(const Camera& cam);
 // Pixel (i, j): column i from the left, row j from the top, through the pixel centre.
 Ray camera_ray(const Camera& cam, int width, int height, double i, double j);
 
+// camera_ray for every pixel of one image, the frame and the lens computed once: the same rays, bit for bit.
+class CameraRays {
+public:
+    CameraRays(const Camera& cam, int width, int height);
+    Ray operator()(double i, double j) const;
+
+private:
+    Camera cam_;
+    CameraFrame fr_;
+    int width_, height_;
+    double aspect_, half_;  // half the image's height at unit distance (perspective) or in world units
+};
+
 // The pixels whose rays (camera_ray) can meet the box b: columns [x0, x1), rows [y0, y1), possibly empty. The whole
 // image where a corner of the box is not in front of a perspective camera's eye (the eye beside or inside the box);
 // otherwise the box of the corners' projections widened by one pixel on each side, more than any rounding of a

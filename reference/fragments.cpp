@@ -25,6 +25,7 @@ std::vector<Fragment> trace_fragments(const RayIntegrator& integrator, const Cam
     const int tiles_x = (rect.x1 - rect.x0 + kTile - 1) / kTile, tiles_y = (rect.y1 - rect.y0 + kTile - 1) / kTile;
     std::vector<std::vector<Fragment>> per_tile(std::size_t(tiles_x) * std::size_t(tiles_y));
     std::atomic<uint64_t> segments{0}, entries{0}, failures{0};
+    const CameraRays rays(camera, width, height);
     tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const tbb::blocked_range2d<int>& r) {
         RayStats rs;
         std::vector<RayRun> runs;
@@ -34,7 +35,7 @@ std::vector<Fragment> trace_fragments(const RayIntegrator& integrator, const Cam
                 for (int j = rect.y0 + ty * kTile; j < std::min(rect.y1, rect.y0 + (ty + 1) * kTile); ++j)
                     for (int i = rect.x0 + tx * kTile; i < std::min(rect.x1, rect.x0 + (tx + 1) * kTile); ++i) {
                         runs.clear();
-                        integrator.runs(camera_ray(camera, width, height, i, j), rs, runs);
+                        integrator.runs(rays(i, j), rs, runs);
                         const uint32_t pixel = uint32_t(j) * uint32_t(width) + uint32_t(i);
                         for (const RayRun& run : runs)
                             if (run.rgba != glm::dvec4(0.0)) out.push_back({pixel, run});

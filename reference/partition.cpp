@@ -196,12 +196,13 @@ std::vector<uint64_t> view_steps(const RayIntegrator& integrator, std::size_t te
     // result whatever the threads' order).
     tbb::enumerable_thread_specific<std::vector<uint32_t>> counts(
         [tetrahedra] { return std::vector<uint32_t>(tetrahedra, 0); });
+    const CameraRays rays(camera, width, height);
     tbb::parallel_for(tbb::blocked_range2d<int>(0, height, 16, 0, width, 16), [&](const tbb::blocked_range2d<int>& r) {
         std::vector<uint32_t>& visits = counts.local();
         RayStats stats;
         for (int j = r.rows().begin(); j < r.rows().end(); ++j)
             for (int i = r.cols().begin(); i < r.cols().end(); ++i)
-                integrator.integrate_counting(camera_ray(camera, width, height, i, j), stats, visits);
+                integrator.integrate_counting(rays(i, j), stats, visits);
     });
     std::vector<uint64_t> steps(tetrahedra, 0);
     for (const std::vector<uint32_t>& visits : counts)

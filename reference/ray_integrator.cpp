@@ -5,6 +5,7 @@
 #include <limits>
 
 #include <embree3/rtcore.h>
+#include <emmintrin.h>
 #include <glm/geometric.hpp>
 
 #include "reference/error.h"
@@ -363,11 +364,12 @@ int32_t RayIntegrator::walk_seen(const Shear& sh, uint32_t tet, Seen f[3], doubl
         e[1] = ed[j];
         e[2] = -ed[i];
         // The face's vertices by their local indices in the next tetrahedron (its vertex `next & 3` is the new one).
-        const Tet& nt = walk_tets_[tet];
+        // Compared four at a time and found from the mask, without a branch: which of the four matches is as
+        // unpredictable as the exit face.
+        const __m128i nt = _mm_loadu_si128(reinterpret_cast<const __m128i*>(walk_tets_[tet].data()));
         for (int n = 0; n < 3; ++n) {
-            int m = 0;
-            while (m < 3 && nt[m] != f[n].id) ++m;
-            f[n].local = m;
+            const int mask = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(nt, _mm_set1_epi32(int(f[n].id)))));
+            f[n].local = __builtin_ctz(unsigned(mask) | 8u);  // 3 if none matched (never, for a conforming face)
         }
         s_in = s_out;
         if (next & kJumpBit) {

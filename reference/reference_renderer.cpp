@@ -20,12 +20,13 @@ Image render_rays(const Integrator& integrator, const Camera& camera, int width,
     Image img(width, height);
     std::atomic<uint64_t> segments{0}, entries{0}, failures{0}, done{0};
     std::mutex progress_mutex;
+    const CameraRays rays(camera, width, height);
     // 16x16 tiles keep neighbouring rays (which walk the same cells) on one thread.
     tbb::parallel_for(tbb::blocked_range2d<int>(0, height, 16, 0, width, 16), [&](const tbb::blocked_range2d<int>& r) {
         RayStats rs;
         for (int j = r.rows().begin(); j < r.rows().end(); ++j)
             for (int i = r.cols().begin(); i < r.cols().end(); ++i) {
-                const glm::dvec4 c = integrator.integrate(camera_ray(camera, width, height, i, j), rs);
+                const glm::dvec4 c = integrator.integrate(rays(i, j), rs);
                 float* px = img.pixel(i, j);
                 for (int k = 0; k < 4; ++k) px[k] = float(c[k]);
             }

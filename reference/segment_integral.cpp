@@ -295,13 +295,18 @@ glm::dvec4 SegmentIntegrator::integrate(double s_front, double s_back, double le
     return composite_over(acc, integrate_piece(pieces_[k], s_prev, s_back, length - t_prev));
 }
 
-const SegmentIntegrator::Piece* SegmentIntegrator::single_piece(double s_front, double s_back) const
+const SegmentIntegrator::Piece* SegmentIntegrator::single_piece(double s_front, double s_back, std::size_t& k) const
 {
+    // integrate()'s interval of s_front: upper_bound ascending, lower_bound descending; `k` (the previous segment's)
+    // is tried first, as consecutive segments of a ray mostly lie in one interval.
+    const std::size_t n = breaks_.size();
     if (s_back >= s_front) {
-        const std::size_t k = std::size_t(std::upper_bound(breaks_.begin(), breaks_.end(), s_front) - breaks_.begin());
-        return k == breaks_.size() || !(breaks_[k] < s_back) ? &pieces_[k] : nullptr;
+        if (!((k == 0 || breaks_[k - 1] <= s_front) && (k == n || s_front < breaks_[k])))
+            k = std::size_t(std::upper_bound(breaks_.begin(), breaks_.end(), s_front) - breaks_.begin());
+        return k == n || !(breaks_[k] < s_back) ? &pieces_[k] : nullptr;
     }
-    const std::size_t k = std::size_t(std::lower_bound(breaks_.begin(), breaks_.end(), s_front) - breaks_.begin());
+    if (!((k == 0 || breaks_[k - 1] < s_front) && (k == n || s_front <= breaks_[k])))
+        k = std::size_t(std::lower_bound(breaks_.begin(), breaks_.end(), s_front) - breaks_.begin());
     return k == 0 || !(breaks_[k - 1] > s_back) ? &pieces_[k] : nullptr;
 }
 
@@ -324,9 +329,10 @@ void SegmentIntegrator::integrate_many(std::size_t n, const double* s_front, con
             out[index[l]] = {lanes_out[l], lanes_out[kLanes + l], lanes_out[2 * kLanes + l], lanes_out[3 * kLanes + l]};
         m = 0;
     };
+    std::size_t k = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const double L = length[i];
-        const Piece* p = L > 0.0 ? single_piece(s_front[i], s_back[i]) : nullptr;
+        const Piece* p = L > 0.0 ? single_piece(s_front[i], s_back[i], k) : nullptr;
         if (!p) {
             out[i] = integrate(s_front[i], s_back[i], L);
             continue;
