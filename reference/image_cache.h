@@ -18,7 +18,7 @@
 namespace uvr {
 
 // Bump when the reference integrator's results change, so old entries are not reused.
-inline constexpr const char* kReferenceCacheVersion = "uvr-reference-4";
+inline constexpr const char* kReferenceCacheVersion = "uvr-reference-5";
 
 class Fnv1a {
 public:

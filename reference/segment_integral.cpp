@@ -61,39 +61,44 @@ double small_quadratic(double A, double B)
     return sum;
 }
 
-// 1 - e^{-d}. Most pieces of a fine mesh are optically thin: below d = 1/32 the alternating series
-// d - d^2/2 + ... - d^8/8! has first omitted term d^9/9! < 1e-19 (relative error ~1e-16, as expm1's), at a fraction of
-// expm1's cost. Evaluated by Estrin's scheme (pairs of terms, then powers d^2 and d^4) rather than Horner's, so that
-// its chain of dependent operations is three multiplications deep instead of eight.
+// 1 - e^{-d} below d = 1/8 from its alternating series d - d^2/2 + ... (relative error ~1e-16, as expm1's, at a
+// fraction of its cost): 8 terms below 1/32 (the first left out, d^9/9!, is below 1e-19 of d), 12 terms up to 1/8
+// (d^13/13!: below 3e-21 of d). Estrin's scheme (pairs of terms, then the powers d^2, d^4, d^8) keeps the chain of
+// dependent operations three or four multiplications deep. pieces_avx2 does the same arithmetic in lanes.
+constexpr double kShortOpacityDepth = 1.0 / 32.0, kSeriesOpacityDepth = 1.0 / 8.0;
 double opacity_of_depth(double d)
 {
-    if (!(d < 0.03125)) return -std::expm1(-d);
+    if (!(d < kSeriesOpacityDepth)) return -std::expm1(-d);
     const double d2 = d * d, d4 = d2 * d2;
     const double p01 = 1.0 - d * 0.5, p23 = 1.0 / 6.0 - d * (1.0 / 24.0);
     const double p45 = 1.0 / 120.0 - d * (1.0 / 720.0), p67 = 1.0 / 5040.0 - d * (1.0 / 40320.0);
-    return d * ((p01 + d2 * p23) + d4 * (p45 + d2 * p67));
+    const double low = (p01 + d2 * p23) + d4 * (p45 + d2 * p67);
+    if (d < kShortOpacityDepth) return d * low;
+    const double p89 = 1.0 / 362880.0 - d * (1.0 / 3628800.0), p1011 = 1.0 / 39916800.0 - d * (1.0 / 479001600.0);
+    return d * (low + (d4 * d4) * (p89 + d2 * p1011));
 }
 
-// Below this optical size S = A + |B| of a piece, integrate_linear_piece takes 1 - J from its power series
-// (thin_one_minus_j) instead of subtracting J from 1, which keeps only the digits the difference from 1 holds: J's
-// absolute error of ~1e-16 is 1e-7 of 1 - J at a depth of 1e-9. Above it 1 - J >= S / 3 > 5e-3, so the subtraction
-// costs at most 2e-14 relative; below it the series needs at most 7 terms.
-constexpr double kThinDepth = 1.0 / 64.0;
-constexpr int kThinTerms = 7;  // the most terms a piece below kThinDepth needs (thin_one_minus_j)
+// Below these optical sizes S = A + |B| of a piece, integrate_linear_piece takes 1 - J from its power series
+// (one_minus_j_series) instead of subtracting J from 1, which keeps only the digits the difference from 1 holds: J's
+// absolute error of ~1e-16 is 1e-7 of 1 - J at a depth of 1e-9. Above kMediumDepth, 1 - J >= S / 3 > 0.04, so the
+// subtraction costs at most 3e-15 relative.
+constexpr double kThinDepth = 1.0 / 64.0, kMediumDepth = 1.0 / 8.0;
+constexpr int kThinTerms = 7, kMediumTerms = 11;  // the terms a piece below kThinDepth, kMediumDepth needs
 
 // 1 - J = int_0^1 (1 - e^{-f(u)}) du with f(u) = A u + B u^2 (the optical depth to the fraction u of the piece)
 //       = sum_{n>=1} (-1)^{n+1} / n! I_n,   I_n = int_0^1 f(u)^n du = sum_j C(n, j) A^{n-j} B^j / (n + j + 1).
-// No two nearly equal values are subtracted (A >= 0; B < 0 only with A + 2B >= 0, where the j terms alternate with a
-// ratio below 1/2). The first term left out, n = kThinTerms + 1, is below S^8 / 8!, under 1.7e-17 of the sum (>= S / 3)
-// for S = A + |B| < kThinDepth, so every piece takes all seven terms. They are summed as sum_j B^j P_j(A) with
-// P_j(A) = sum_n c_{n,j} A^{n-j} (Horner in A for each j, then in B): eight short chains a processor runs side by side.
+// f >= 0 on [0, 1], so the terms alternate and shrink, and no two nearly equal values are subtracted (A >= 0; B < 0
+// only with A + 2B >= 0, where the j terms alternate with a ratio below 1/2). The first term left out, n = Terms + 1,
+// is at most S^{n} / n! against a sum of at least S / 3: below 1.7e-17 of it for 7 terms under kThinDepth, below
+// 7.3e-19 for 11 terms under kMediumDepth. The terms are summed as sum_j B^j P_j(A) with
+// P_j(A) = sum_n c_{n,j} A^{n-j} (Horner in A for each j, then in B): short chains a processor runs side by side.
 // The coefficients c_{n,j} = (-1)^{n+1} C(n, j) / (n! (n + j + 1)) come from a table computed at compile time.
-// Derivation: docs/reference.md, "Thin pieces". kThinCoef[j][m] = c_{j+m, j}: the coefficient of A^m in P_j (zero
-// where j + m is 0 or above kThinTerms).
-constexpr auto kThinCoef = [] {
-    std::array<std::array<double, kThinTerms + 1>, kThinTerms + 1> c{};
+// Derivation: docs/reference.md, "Thin pieces". kSeriesCoef[j][m] = c_{j+m, j}: the coefficient of A^m in P_j (zero
+// where j + m is 0 or above kMediumTerms).
+constexpr auto kSeriesCoef = [] {
+    std::array<std::array<double, kMediumTerms + 1>, kMediumTerms + 1> c{};
     double fact = 1.0;
-    for (int n = 1; n <= kThinTerms; ++n) {
+    for (int n = 1; n <= kMediumTerms; ++n) {
         fact *= n;
         double binom = 1.0;
         for (int j = 0; j <= n; ++j) {
@@ -104,54 +109,69 @@ constexpr auto kThinCoef = [] {
     return c;
 }();
 
-double thin_one_minus_j(double A, double B)
+template <int Terms>
+double one_minus_j_series(double A, double B)
 {
     double w = 0.0;
-#pragma GCC unroll 8
-    for (int j = kThinTerms; j >= 0; --j) {
-        const auto& c = kThinCoef[std::size_t(j)];
+#pragma GCC unroll 12
+    for (int j = Terms; j >= 0; --j) {
+        const auto& c = kSeriesCoef[std::size_t(j)];
         double p = 0.0;
-#pragma GCC unroll 8
-        for (int m = kThinTerms - j; m >= 0; --m) p = p * A + c[std::size_t(m)];
+#pragma GCC unroll 12
+        for (int m = Terms - j; m >= 0; --m) p = p * A + c[std::size_t(m)];
         w = w * B + p;
     }
     return w;
 }
 
-// Eight thin pieces at once in two sets of AVX2 lanes (A + |B| < kThinDepth for every lane, so depth < 1/32 too),
-// the two sets' chains interleaved: the operations of opacity_of_depth, thin_one_minus_j and integrate_linear_piece in
-// the same order, one IEEE operation per lane for each scalar one (no fused multiply-add: the target is AVX2 alone),
-// hence the same bits. Inputs and outputs are arrays of kThinLanes; c0 and c1 and out by channel.
-constexpr std::size_t kThinLanes = 8;
-__attribute__((target("avx2"))) void thin_pieces_avx2(const double* A, const double* B, const double* depth,
-                                                      const double* c0, const double* c1, double* out)
+// Eight pieces at once in two sets of AVX2 lanes, every lane's S below kThinDepth (Terms = kThinTerms) or below
+// kMediumDepth (kMediumTerms), the two sets' chains interleaved: the operations of opacity_of_depth,
+// one_minus_j_series and integrate_linear_piece in the same order, one IEEE operation per lane for each scalar one (no
+// fused multiply-add: the target is AVX2 alone), hence the same bits. Inputs and outputs are arrays of kPieceLanes; c0,
+// c1 and out by channel.
+constexpr std::size_t kPieceLanes = 8;
+template <int Terms>
+__attribute__((target("avx2"))) void pieces_avx2(const double* A, const double* B, const double* depth,
+                                                 const double* c0, const double* c1, double* out)
 {
-    constexpr int kSets = int(kThinLanes / 4);
-    __m256d a[kSets], b[kSets], d[kSets], alpha[kSets], w0[kSets], w1[kSets];
+    constexpr int kSets = int(kPieceLanes / 4);
+    __m256d a[kSets], b[kSets], alpha[kSets], w0[kSets];
 #pragma GCC unroll 2
     for (int h = 0; h < kSets; ++h) {
         a[h] = _mm256_loadu_pd(A + 4 * h);
         b[h] = _mm256_loadu_pd(B + 4 * h);
-        d[h] = _mm256_loadu_pd(depth + 4 * h);
-        const __m256d d2 = _mm256_mul_pd(d[h], d[h]), d4 = _mm256_mul_pd(d2, d2);
-        const __m256d p01 = _mm256_sub_pd(_mm256_set1_pd(1.0), _mm256_mul_pd(d[h], _mm256_set1_pd(0.5)));
-        const __m256d p23 = _mm256_sub_pd(_mm256_set1_pd(1.0 / 6.0), _mm256_mul_pd(d[h], _mm256_set1_pd(1.0 / 24.0)));
-        const __m256d p45 =
-            _mm256_sub_pd(_mm256_set1_pd(1.0 / 120.0), _mm256_mul_pd(d[h], _mm256_set1_pd(1.0 / 720.0)));
+        const __m256d d = _mm256_loadu_pd(depth + 4 * h);
+        const __m256d d2 = _mm256_mul_pd(d, d), d4 = _mm256_mul_pd(d2, d2);
+        const __m256d p01 = _mm256_sub_pd(_mm256_set1_pd(1.0), _mm256_mul_pd(d, _mm256_set1_pd(0.5)));
+        const __m256d p23 = _mm256_sub_pd(_mm256_set1_pd(1.0 / 6.0), _mm256_mul_pd(d, _mm256_set1_pd(1.0 / 24.0)));
+        const __m256d p45 = _mm256_sub_pd(_mm256_set1_pd(1.0 / 120.0), _mm256_mul_pd(d, _mm256_set1_pd(1.0 / 720.0)));
         const __m256d p67 =
-            _mm256_sub_pd(_mm256_set1_pd(1.0 / 5040.0), _mm256_mul_pd(d[h], _mm256_set1_pd(1.0 / 40320.0)));
-        alpha[h] = _mm256_mul_pd(d[h], _mm256_add_pd(_mm256_add_pd(p01, _mm256_mul_pd(d2, p23)),
-                                                     _mm256_mul_pd(d4, _mm256_add_pd(p45, _mm256_mul_pd(d2, p67)))));
+            _mm256_sub_pd(_mm256_set1_pd(1.0 / 5040.0), _mm256_mul_pd(d, _mm256_set1_pd(1.0 / 40320.0)));
+        const __m256d low = _mm256_add_pd(_mm256_add_pd(p01, _mm256_mul_pd(d2, p23)),
+                                          _mm256_mul_pd(d4, _mm256_add_pd(p45, _mm256_mul_pd(d2, p67))));
+        alpha[h] = _mm256_mul_pd(d, low);
+        if constexpr (Terms > kThinTerms) {
+            // Lanes at depth 1/32 and beyond take the 12-term series (opacity_of_depth).
+            const __m256d p89 =
+                _mm256_sub_pd(_mm256_set1_pd(1.0 / 362880.0), _mm256_mul_pd(d, _mm256_set1_pd(1.0 / 3628800.0)));
+            const __m256d p1011 =
+                _mm256_sub_pd(_mm256_set1_pd(1.0 / 39916800.0), _mm256_mul_pd(d, _mm256_set1_pd(1.0 / 479001600.0)));
+            const __m256d high = _mm256_mul_pd(
+                d,
+                _mm256_add_pd(low, _mm256_mul_pd(_mm256_mul_pd(d4, d4), _mm256_add_pd(p89, _mm256_mul_pd(d2, p1011)))));
+            const __m256d is_short = _mm256_cmp_pd(d, _mm256_set1_pd(kShortOpacityDepth), _CMP_LT_OQ);
+            alpha[h] = _mm256_blendv_pd(high, alpha[h], is_short);
+        }
         w0[h] = _mm256_setzero_pd();
     }
-#pragma GCC unroll 8
-    for (int j = kThinTerms; j >= 0; --j) {
-        const auto& c = kThinCoef[std::size_t(j)];
+#pragma GCC unroll 12
+    for (int j = Terms; j >= 0; --j) {
+        const auto& c = kSeriesCoef[std::size_t(j)];
         __m256d p[kSets];
 #pragma GCC unroll 2
         for (int h = 0; h < kSets; ++h) p[h] = _mm256_setzero_pd();
-#pragma GCC unroll 8
-        for (int m = kThinTerms - j; m >= 0; --m)
+#pragma GCC unroll 12
+        for (int m = Terms - j; m >= 0; --m)
 #pragma GCC unroll 2
             for (int h = 0; h < kSets; ++h)
                 p[h] = _mm256_add_pd(_mm256_mul_pd(p[h], a[h]), _mm256_set1_pd(c[std::size_t(m)]));
@@ -160,14 +180,14 @@ __attribute__((target("avx2"))) void thin_pieces_avx2(const double* A, const dou
     }
 #pragma GCC unroll 2
     for (int h = 0; h < kSets; ++h) {
-        w1[h] = _mm256_sub_pd(alpha[h], w0[h]);
+        const __m256d w1 = _mm256_sub_pd(alpha[h], w0[h]);
         for (int ch = 0; ch < 3; ++ch) {
-            const std::size_t at = std::size_t(ch) * kThinLanes + std::size_t(4 * h);
+            const std::size_t at = std::size_t(ch) * kPieceLanes + std::size_t(4 * h);
             const __m256d x = _mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(c0 + at), w0[h]),
-                                            _mm256_mul_pd(_mm256_loadu_pd(c1 + at), w1[h]));
+                                            _mm256_mul_pd(_mm256_loadu_pd(c1 + at), w1));
             _mm256_storeu_pd(out + at, x);
         }
-        _mm256_storeu_pd(out + 3 * kThinLanes + std::size_t(4 * h), alpha[h]);
+        _mm256_storeu_pd(out + 3 * kPieceLanes + std::size_t(4 * h), alpha[h]);
     }
 }
 
@@ -208,9 +228,10 @@ glm::dvec4 integrate_linear_piece(const glm::dvec3& c0, const glm::dvec3& c1, do
     // C = c0 - c1 e^{-T} + (c1 - c0) J, rearranged as c0 (1 - J) + c1 (J - e^{-T}) so that both weights are
     // non-negative (J lies between e^{-T} and 1) and nothing cancels when the colour is constant.
     double w0, w1;
-    if (A + std::fabs(B) < kThinDepth) {
+    const double S = A + std::fabs(B);
+    if (S < kMediumDepth) {
         // w0 + w1 = 1 - e^{-T} = alpha: w1 from the two accurate values loses at most a factor 3 (w1 >= alpha / 3).
-        w0 = thin_one_minus_j(A, B);
+        w0 = S < kThinDepth ? one_minus_j_series<kThinTerms>(A, B) : one_minus_j_series<kMediumTerms>(A, B);
         w1 = alpha - w0;
     } else {
         const double J = depth_average_transmittance(A, B);
@@ -317,17 +338,21 @@ void SegmentIntegrator::integrate_many(std::size_t n, const double* s_front, con
         for (std::size_t i = 0; i < n; ++i) out[i] = integrate(s_front[i], s_back[i], length[i]);
         return;
     }
-    // The thin pieces that lie in one interval of the transfer function, kThinLanes at a time: their A, B, depth and
-    // end colours exactly as integrate_piece and integrate_linear_piece compute them, gathered by lane.
-    constexpr std::size_t kLanes = kThinLanes;
-    double A[kLanes], B[kLanes], depth[kLanes], c0[3 * kLanes], c1[3 * kLanes], lanes_out[4 * kLanes];
-    std::size_t index[kLanes], m = 0;
-    const auto run_lanes = [&] {
-        for (std::size_t l = m; l < kLanes; ++l) A[l] = B[l] = depth[l] = 0.0;  // idle lanes compute zeros
-        thin_pieces_avx2(A, B, depth, c0, c1, lanes_out);
-        for (std::size_t l = 0; l < m; ++l)
-            out[index[l]] = {lanes_out[l], lanes_out[kLanes + l], lanes_out[2 * kLanes + l], lanes_out[3 * kLanes + l]};
-        m = 0;
+    // The thin and medium pieces that lie in one interval of the transfer function, kPieceLanes of a kind at a time:
+    // their A, B, depth and end colours exactly as integrate_piece and integrate_linear_piece compute them, by lane.
+    struct Lanes {
+        double A[kPieceLanes], B[kPieceLanes], depth[kPieceLanes], c0[3 * kPieceLanes], c1[3 * kPieceLanes];
+        double result[4 * kPieceLanes];
+        std::size_t index[kPieceLanes], m = 0;
+    };
+    Lanes thin, medium;
+    const auto run = [&](Lanes& l, auto kernel) {
+        for (std::size_t i = l.m; i < kPieceLanes; ++i) l.A[i] = l.B[i] = l.depth[i] = 0.0;  // idle lanes: zeros
+        kernel(l.A, l.B, l.depth, l.c0, l.c1, l.result);
+        for (std::size_t i = 0; i < l.m; ++i)
+            out[l.index[i]] = {l.result[i], l.result[kPieceLanes + i], l.result[2 * kPieceLanes + i],
+                               l.result[3 * kPieceLanes + i]};
+        l.m = 0;
     };
     std::size_t k = 0;
     for (std::size_t i = 0; i < n; ++i) {
@@ -340,22 +365,28 @@ void SegmentIntegrator::integrate_many(std::size_t n, const double* s_front, con
         const double sa = s_front[i], sb = s_back[i];
         const glm::dvec3 ca = p->c + p->dc * (sa - p->lo), cb = p->c + p->dc * (sb - p->lo);
         const double tau0 = p->tau + p->dtau * (sa - p->lo), tau1 = p->tau + p->dtau * (sb - p->lo);
-        const double a = tau0 * L, b = 0.5 * (tau1 - tau0) * L;
-        if (!(a + std::fabs(b) < kThinDepth)) {
+        const double a = tau0 * L, b = 0.5 * (tau1 - tau0) * L, S = a + std::fabs(b);
+        if (!(S < kMediumDepth)) {
             out[i] = integrate_linear_piece(ca, cb, tau0, tau1, L);
             continue;
         }
-        A[m] = a;
-        B[m] = b;
-        depth[m] = 0.5 * (tau0 + tau1) * L;
+        Lanes& l = S < kThinDepth ? thin : medium;
+        l.A[l.m] = a;
+        l.B[l.m] = b;
+        l.depth[l.m] = 0.5 * (tau0 + tau1) * L;
         for (int ch = 0; ch < 3; ++ch) {
-            c0[std::size_t(ch) * kLanes + m] = ca[ch];
-            c1[std::size_t(ch) * kLanes + m] = cb[ch];
+            l.c0[std::size_t(ch) * kPieceLanes + l.m] = ca[ch];
+            l.c1[std::size_t(ch) * kPieceLanes + l.m] = cb[ch];
         }
-        index[m++] = i;
-        if (m == kLanes) run_lanes();
+        l.index[l.m++] = i;
+        if (l.m < kPieceLanes) continue;
+        if (&l == &thin)
+            run(thin, pieces_avx2<kThinTerms>);
+        else
+            run(medium, pieces_avx2<kMediumTerms>);
     }
-    if (m > 0) run_lanes();
+    if (thin.m > 0) run(thin, pieces_avx2<kThinTerms>);
+    if (medium.m > 0) run(medium, pieces_avx2<kMediumTerms>);
 }
 
 }  // namespace uvr

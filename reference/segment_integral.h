@@ -47,7 +47,7 @@ public:
     glm::dvec4 integrate(double s_front, double s_back, double length) const;
 
     // out[i] = integrate(s_front[i], s_back[i], length[i]) for i < n, the same bits; thin pieces within one interval of
-    // the transfer function eight at a time in AVX2 lanes where the processor has them.
+    // the transfer function (optical size below 1/8) eight at a time in AVX2 lanes where the processor has them.
     void integrate_many(std::size_t n, const double* s_front, const double* s_back, const double* length,
                         glm::dvec4* out) const;
 
