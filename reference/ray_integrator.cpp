@@ -43,6 +43,33 @@ struct RayIntegrator::Embree {
 
 namespace {
 
+// The boundary faces one ray has entered or left through: most rays use a few, so they are held in place, and only a
+// ray through many gaps allocates.
+class UsedFaces {
+public:
+    void push_back(int32_t face)
+    {
+        if (n_ < kInPlace)
+            in_place_[n_] = face;
+        else
+            more_.push_back(face);
+        ++n_;
+    }
+    bool contains(int32_t face) const
+    {
+        const std::size_t k = std::min(n_, kInPlace);
+        return std::find(in_place_.begin(), in_place_.begin() + std::ptrdiff_t(k), face) !=
+                   in_place_.begin() + std::ptrdiff_t(k) ||
+               std::find(more_.begin(), more_.end(), face) != more_.end();
+    }
+
+private:
+    static constexpr std::size_t kInPlace = 16;
+    std::array<int32_t, kInPlace> in_place_;
+    std::vector<int32_t> more_;
+    std::size_t n_ = 0;
+};
+
 // The intersect context carries what the filter needs to accept only faces the ray really enters next.
 struct EntryContext {
     RTCIntersectContext base;  // first member: Embree hands the filter a pointer to it
@@ -51,7 +78,7 @@ struct EntryContext {
     const std::vector<int32_t>* face_of_prim;
     glm::dvec3 origin, dir;
     double t_min, slack;
-    const std::vector<int32_t>* used;  // boundary faces this ray already entered or left through
+    const UsedFaces* used;  // boundary faces this ray already entered or left through
 };
 
 void entry_filter(const RTCFilterFunctionNArguments* args)
@@ -66,8 +93,7 @@ void entry_filter(const RTCFilterFunctionNArguments* args)
         bool ok = dn < 0.0;  // entering: against the outward normal
         if (ok) {
             const double t = glm::dot(n, ctx->mesh->points[f.v[0]] - ctx->origin) / dn;
-            ok = t >= ctx->t_min - ctx->slack &&
-                 std::find(ctx->used->begin(), ctx->used->end(), face) == ctx->used->end();
+            ok = t >= ctx->t_min - ctx->slack && !ctx->used->contains(face);
         }
         if (!ok) args->valid[i] = 0;
     }
@@ -367,14 +393,14 @@ int32_t RayIntegrator::walk_seen(const Shear& sh, uint32_t tet, Seen f[3], doubl
         // Compared four at a time and found from the mask, without a branch: which of the four matches is as
         // unpredictable as the exit face.
         const __m128i nt = _mm_loadu_si128(reinterpret_cast<const __m128i*>(walk_tets_[tet].data()));
-        for (int n = 0; n < 3; ++n) {
-            const int mask = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(nt, _mm_set1_epi32(int(f[n].id)))));
-            f[n].local = __builtin_ctz(unsigned(mask) | 8u);  // 3 if none matched (never, for a conforming face)
+        for (int c = 0; c < 3; ++c) {
+            const int mask = _mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(nt, _mm_set1_epi32(int(f[c].id)))));
+            f[c].local = __builtin_ctz(unsigned(mask) | 8u);  // 3 if none matched (never, for a conforming face)
         }
         s_in = s_out;
         if (next & kJumpBit) {
             // The field jumps across the face: the next tetrahedron's own values at the same point.
-            for (int n = 0; n < 3; ++n) f[n].s = values_[tet][f[n].local];
+            for (int c = 0; c < 3; ++c) f[c].s = values_[tet][f[c].local];
             if (w > 0.0) s_in = (wi * f[0].s + wj * f[1].s + wd * f[2].s) * inv_w;
         }
     }
@@ -469,7 +495,7 @@ glm::dvec4 RayIntegrator::trace(const Ray& in, RayStats& stats, std::vector<RayR
     const double back = inside_bounds ? glm::length(in.origin - bb.center()) + glm::length(bb.extent()) : 0.0;
     const Ray ray{in.origin - back * in.dir, in.dir};
     glm::dvec4 acc(0.0);
-    std::vector<int32_t> used;
+    UsedFaces used;
     double t_min = 0.0;
     const glm::dvec3 o = ray.origin - E.shift;
     const Shear shear(ray);

@@ -344,6 +344,21 @@ void SegmentIntegrator::integrate_many(std::size_t n, const double* s_front, con
         double A[kPieceLanes], B[kPieceLanes], depth[kPieceLanes], c0[3 * kPieceLanes], c1[3 * kPieceLanes];
         double result[4 * kPieceLanes];
         std::size_t index[kPieceLanes], m = 0;
+        // Adds one piece; true when the lanes are full.
+        bool add(double a, double b, double dep, const glm::dvec3& ca, const glm::dvec3& cb, std::size_t i)
+        {
+            const std::size_t at = m;
+            A[at] = a;
+            B[at] = b;
+            depth[at] = dep;
+            for (int ch = 0; ch < 3; ++ch) {
+                c0[std::size_t(ch) * kPieceLanes + at] = ca[ch];
+                c1[std::size_t(ch) * kPieceLanes + at] = cb[ch];
+            }
+            index[at] = i;
+            m = at + 1;
+            return m == kPieceLanes;
+        }
     };
     Lanes thin, medium;
     const auto run = [&](Lanes& l, auto kernel) {
@@ -370,20 +385,12 @@ void SegmentIntegrator::integrate_many(std::size_t n, const double* s_front, con
             out[i] = integrate_linear_piece(ca, cb, tau0, tau1, L);
             continue;
         }
-        Lanes& l = S < kThinDepth ? thin : medium;
-        l.A[l.m] = a;
-        l.B[l.m] = b;
-        l.depth[l.m] = 0.5 * (tau0 + tau1) * L;
-        for (int ch = 0; ch < 3; ++ch) {
-            l.c0[std::size_t(ch) * kPieceLanes + l.m] = ca[ch];
-            l.c1[std::size_t(ch) * kPieceLanes + l.m] = cb[ch];
-        }
-        l.index[l.m++] = i;
-        if (l.m < kPieceLanes) continue;
-        if (&l == &thin)
-            run(thin, pieces_avx2<kThinTerms>);
-        else
+        const double dep = 0.5 * (tau0 + tau1) * L;
+        if (S < kThinDepth) {
+            if (thin.add(a, b, dep, ca, cb, i)) run(thin, pieces_avx2<kThinTerms>);
+        } else if (medium.add(a, b, dep, ca, cb, i)) {
             run(medium, pieces_avx2<kMediumTerms>);
+        }
     }
     if (thin.m > 0) run(thin, pieces_avx2<kThinTerms>);
     if (medium.m > 0) run(medium, pieces_avx2<kMediumTerms>);
