@@ -70,10 +70,8 @@ private:
     // for every step through tetrahedron t (a no-op but for integrate_counting).
     template <class OnStep>
     glm::dvec4 trace(const Ray& ray, RayStats& stats, std::vector<RayRun>* runs, OnStep on_step) const;
-    // The walk from boundary face `face` entered at ray parameter t_in, compositing into acc what lies at t >= t_clip;
-    // returns the boundary face it leaves through and sets t_out.
-    struct Shear;
-    struct Seen;
+    struct Shear;  // the ray's view of the mesh's points (ray_integrator.cpp)
+    struct Seen;   // one point so seen
     // The walk from boundary face `face` entered at ray parameter t_in, compositing into acc what lies at t >= t_clip;
     // returns the boundary face it leaves through and sets t_out. It walks by the points seen along the ray
     // (walk_seen) when the ray passes through the entry face by that walk's own tests, else by the faces' planes.
