@@ -239,20 +239,39 @@ struct RayIntegrator::Shear {
     }
 };
 
-bool RayIntegrator::composite_step(double t_in, double t1, double s_in, double s_out, double t_clip, glm::dvec4& acc,
-                                   int& zero_steps) const
+namespace {
+
+// The part of a step's segment (ray parameter t_in to t1, scalar s_in to s_out) at t >= t_clip: its scalars and
+// length, the length 0 where none of it lies there. The scalar is linear along the segment inside one tetrahedron.
+struct ClippedSegment {
+    double s0 = 0.0, s1 = 0.0, length = 0.0;
+};
+ClippedSegment clip_segment(double t_in, double t1, double s_in, double s_out, double t_clip)
+{
+    if (!(t1 > t_in && t1 > t_clip)) return {};
+    const double t0 = std::max(t_in, t_clip);
+    return {t0 == t_in ? s_in : s_in + (s_out - s_in) * ((t0 - t_in) / (t1 - t_in)), s_out, t1 - t0};
+}
+
+// Counts a step of zero length in zero_steps (resets it otherwise); false once there are more than
+// kMaxZeroLengthSteps in a row.
+bool count_zero_step(double t_in, double t1, int& zero_steps)
 {
     if (t1 > t_in) {
-        if (t1 > t_clip) {
-            // The part at t >= t_clip: the scalar is linear along the segment inside one tetrahedron.
-            const double t0 = std::max(t_in, t_clip);
-            const double s0 = t0 == t_in ? s_in : s_in + (s_out - s_in) * ((t0 - t_in) / (t1 - t_in));
-            acc = composite_over(acc, segment_.integrate(s0, s_out, t1 - t0));
-        }
         zero_steps = 0;
         return true;
     }
     return ++zero_steps <= kMaxZeroLengthSteps;
+}
+
+}  // namespace
+
+bool RayIntegrator::composite_step(double t_in, double t1, double s_in, double s_out, double t_clip, glm::dvec4& acc,
+                                   int& zero_steps) const
+{
+    const ClippedSegment c = clip_segment(t_in, t1, s_in, s_out, t_clip);
+    if (c.length > 0.0) acc = composite_over(acc, segment_.integrate(c.s0, c.s1, c.length));
+    return count_zero_step(t_in, t1, zero_steps);
 }
 
 template <class OnStep>
@@ -352,18 +371,12 @@ int32_t RayIntegrator::walk_seen(const Shear& sh, uint32_t tet, Seen f[3], doubl
         batch.tet[n] = tet;
         batch.exit_local[n] = exit_local;
         batch.t1[n] = t1;
-        batch.s0[n] = batch.s1[n] = batch.length[n] = 0.0;
-        if (t1 > t_in && t1 > t_clip) {
-            // The part at t >= t_clip: the scalar is linear along the segment inside one tetrahedron.
-            const double t0 = std::max(t_in, t_clip);
-            batch.s0[n] = t0 == t_in ? s_in : s_in + (s_out - s_in) * ((t0 - t_in) / (t1 - t_in));
-            batch.s1[n] = s_out;
-            batch.length[n] = t1 - t0;
-        }
+        const ClippedSegment c = clip_segment(t_in, t1, s_in, s_out, t_clip);
+        batch.s0[n] = c.s0;
+        batch.s1[n] = c.s1;
+        batch.length[n] = c.length;
         ++n;
-        if (t1 > t_in) {
-            zero_steps = 0;
-        } else if (++zero_steps > kMaxZeroLengthSteps) {
+        if (!count_zero_step(t_in, t1, zero_steps)) {
             if (flush()) break;
             ++stats.failures;
             t_out = t1;

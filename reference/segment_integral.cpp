@@ -286,11 +286,10 @@ glm::dvec4 SegmentIntegrator::integrate_piece(const Piece& p, double sa, double 
 glm::dvec4 SegmentIntegrator::integrate(double s_front, double s_back, double length) const
 {
     if (!(length > 0.0)) return glm::dvec4(0.0);
+    std::size_t k = 0;
+    if (const Piece* p = single_piece(s_front, s_back, k)) return integrate_piece(*p, s_front, s_back, length);
     const double ds = s_back - s_front;
     if (s_back >= s_front) {
-        // Interval of s_front seen from above (a breakpoint exactly at s_front belongs to the piece after it).
-        std::size_t k = std::size_t(std::upper_bound(breaks_.begin(), breaks_.end(), s_front) - breaks_.begin());
-        if (k == breaks_.size() || !(breaks_[k] < s_back)) return integrate_piece(pieces_[k], s_front, s_back, length);
         glm::dvec4 acc(0.0);
         double s_prev = s_front, t_prev = 0.0;
         for (; k < breaks_.size() && breaks_[k] < s_back; ++k) {
@@ -301,10 +300,7 @@ glm::dvec4 SegmentIntegrator::integrate(double s_front, double s_back, double le
         }
         return composite_over(acc, integrate_piece(pieces_[k], s_prev, s_back, length - t_prev));
     }
-    // Descending: the interval of s_front seen from below (a breakpoint exactly at s_front belongs to the piece
-    // before it).
-    std::size_t k = std::size_t(std::lower_bound(breaks_.begin(), breaks_.end(), s_front) - breaks_.begin());
-    if (k == 0 || !(breaks_[k - 1] > s_back)) return integrate_piece(pieces_[k], s_front, s_back, length);
+    // Descending: from s_front's interval down.
     glm::dvec4 acc(0.0);
     double s_prev = s_front, t_prev = 0.0;
     for (; k > 0 && breaks_[k - 1] > s_back; --k) {
@@ -318,8 +314,9 @@ glm::dvec4 SegmentIntegrator::integrate(double s_front, double s_back, double le
 
 const SegmentIntegrator::Piece* SegmentIntegrator::single_piece(double s_front, double s_back, std::size_t& k) const
 {
-    // integrate()'s interval of s_front: upper_bound ascending, lower_bound descending; `k` (the previous segment's)
-    // is tried first, as consecutive segments of a ray mostly lie in one interval.
+    // The interval of s_front: ascending, seen from above (upper_bound: a breakpoint exactly at s_front belongs to the
+    // piece after it); descending, from below (lower_bound: to the piece before it). `k` (integrate_many: the previous
+    // segment's) is tried first, as consecutive segments of a ray mostly lie in one interval.
     const std::size_t n = breaks_.size();
     if (s_back >= s_front) {
         if (!((k == 0 || breaks_[k - 1] <= s_front) && (k == n || s_front < breaks_[k])))
@@ -377,6 +374,7 @@ void SegmentIntegrator::integrate_many(std::size_t n, const double* s_front, con
             out[i] = integrate(s_front[i], s_back[i], L);
             continue;
         }
+        // integrate_piece's and integrate_linear_piece's arithmetic, the same operations in the same order.
         const double sa = s_front[i], sb = s_back[i];
         const glm::dvec3 ca = p->c + p->dc * (sa - p->lo), cb = p->c + p->dc * (sb - p->lo);
         const double tau0 = p->tau + p->dtau * (sa - p->lo), tau1 = p->tau + p->dtau * (sb - p->lo);

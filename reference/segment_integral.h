@@ -65,7 +65,7 @@ private:
     };
     glm::dvec4 integrate_piece(const Piece& p, double sa, double sb, double length) const;
     // The piece holding the whole segment from s_front to s_back, as integrate() finds it; null where it crosses a
-    // breakpoint. `k`: the interval to try first, set to s_front's.
+    // breakpoint. `k`: the interval to try first, set to s_front's (the search's start when the segment crosses).
     const Piece* single_piece(double s_front, double s_back, std::size_t& k) const;
 
     TransferFunction tf_;
