@@ -4,11 +4,14 @@
 #include <filesystem>
 #include <optional>
 
+#include <glm/common.hpp>
 #include <nlohmann/json.hpp>
 
 #include "bench/commands.h"
 #include "bench/options.h"
 #include "bench/scene.h"
+#include "gpu/pipeline/segment.h"
+#include "reference/dataset.h"
 #include "reference/error.h"
 #include "reference/partition.h"
 #include "reference/write_vtk_xml.h"
@@ -34,11 +37,34 @@ std::string output_name(const std::string& path)
     return colon == std::string::npos ? name : name.substr(colon + 1);
 }
 
-// Writes every piece, then the .pvtu; a failure removes what was written, so DIR holds all of it or none of it.
+// Joins `piece`'s extent into `whole` (`first`: the first piece): bounds, longest edge, every field's range.
+void join_extent(WholeExtent& whole, const TetMesh& piece, bool first)
+{
+    const Bounds b = mesh_bounds(piece);
+    const double longest = gpu::longest_tet_edge(piece);
+    if (first) {
+        whole = {b, longest, {}};
+        for (const ScalarField& f : piece.fields) whole.ranges.push_back({f.name, field_range(f)});
+        return;
+    }
+    whole.bounds.lo = glm::min(whole.bounds.lo, b.lo);
+    whole.bounds.hi = glm::max(whole.bounds.hi, b.hi);
+    whole.longest_edge = std::max(whole.longest_edge, longest);
+    for (std::size_t i = 0; i < piece.fields.size(); ++i) {
+        const Range r = field_range(piece.fields[i]);
+        Range& to = whole.ranges[i].second;
+        to = {std::min(to.lo, r.lo), std::max(to.hi, r.hi)};
+    }
+}
+
+// Writes every piece, then the .pvtu with the whole mesh's extent as the ranks will find it: joined from each piece
+// read back as a rank reads it (the reader's own checks and re-orientation applied). A failure removes what was
+// written, so DIR holds all of it or none of it.
 nlohmann::json write_parts(const TetMesh& mesh, const std::vector<uint32_t>& part_of, uint32_t parts,
                            const std::string& dir, const std::string& name)
 {
     std::vector<std::string> pieces, written;
+    WholeExtent whole;
     nlohmann::json report = nlohmann::json::array();
     try {
         for (uint32_t p = 0; p < parts; ++p) {
@@ -46,11 +72,12 @@ nlohmann::json write_parts(const TetMesh& mesh, const std::vector<uint32_t>& par
             pieces.push_back(name + "_" + std::to_string(p) + ".vtu");
             written.push_back(dir + "/" + pieces.back());
             write_vtu(written.back(), part);
+            join_extent(whole, *read_vtk_xml(written.back()).mesh, p == 0);
             report.push_back(
                 {{"piece", pieces.back()}, {"tetrahedra", part.tets.size()}, {"points", part.points.size()}});
         }
         written.push_back(dir + "/" + name + ".pvtu");
-        write_pvtu(written.back(), mesh, pieces);
+        write_pvtu(written.back(), mesh, pieces, &whole);
     } catch (...) {
         std::error_code ec;
         for (const std::string& f : written) std::filesystem::remove(f, ec);

@@ -65,27 +65,83 @@ Dataset rank_part(const std::string& path)
     return read_pvtu(path, rank, ranks);
 }
 
-// This rank's part of the scene: its pieces read, the whole mesh's extent agreed, the scene set up on it.
-Scene rank_scene(const SceneOptions& o, mpi::RankStats& st)
+// Whether the ranks may go on without each other until their parts are rendered: the .pvtu records the whole mesh's
+// extent (the camera and the transfer function need it). Every rank reads the same file, so every rank decides alike;
+// a file that cannot be read takes the other way, where reading it fails on every rank and they agree on that.
+bool extent_recorded(const std::string& path)
+{
+    if (file_extension(path) != ".pvtu") return false;
+    try {
+        return read_pvtu_whole_extent(path).has_value();
+    } catch (const InputError&) {
+        return false;
+    }
+}
+
+// A part's extent: its bounds, longest edge and the range of the field rendered.
+SceneExtent part_extent(const TetMesh& mesh, const std::string& field)
+{
+    return {mesh_bounds(mesh), field_range(mesh.fields[find_field(mesh, field)]), gpu::longest_tet_edge(mesh)};
+}
+
+// The extent a .pvtu records, for the field rendered.
+SceneExtent recorded_extent(const Dataset& data, const std::string& field)
+{
+    const std::string name = data.mesh->fields[find_field(*data.mesh, field)].name;
+    const WholeExtent& w = *data.whole;
+    const auto range = std::find_if(w.ranges.begin(), w.ranges.end(), [&](const auto& r) { return r.first == name; });
+    return {w.bounds, range->second, w.longest_edge};  // read_pvtu checked that every field has its range
+}
+
+// This rank's part of the scene, set up with the whole mesh's extent. Where the .pvtu records that extent (`recorded`),
+// no rank waits for another here: a failure stays in `held` (the scene left empty) for settle(); otherwise the ranks
+// agree after reading, on the extent, and after the set-up.
+struct RankScene {
+    std::optional<Scene> scene;
+    bool recorded = false;
+    SceneExtent own;  // this rank's part's extent, checked against the record by settle()
+};
+RankScene rank_scene(const SceneOptions& o, mpi::RankStats& st, mpi::HeldFailure& held)
 {
     const auto start = Clock::now();
+    RankScene r;
+    r.recorded = extent_recorded(o.input.path);
     std::optional<Dataset> data;
-    mpi::on_every_rank([&] { data = rank_part(o.input.path); });
+    held.run([&] { data = rank_part(o.input.path); });
+    if (!r.recorded) held.agree();
     st.read_seconds = ms_since(start) / 1000.0;
-    SceneExtent whole;
-    mpi::on_every_rank([&] {
-        const TetMesh& mesh = *data->mesh;
-        whole.bounds = mesh_bounds(mesh);
-        whole.range = field_range(mesh.fields[find_field(mesh, o.input.field)]);
-        whole.longest_edge = gpu::longest_tet_edge(mesh);
-    });
-    mpi::reduce_extent(whole.bounds, whole.range, whole.longest_edge);
-    std::optional<Scene> scene;
     const auto t_setup = Clock::now();  // the topology of the part: the first half of "build"
-    mpi::on_every_rank([&] { scene.emplace(setup_scene(std::move(*data), o, whole)); });
+    SceneExtent whole;
+    held.run([&] {
+        r.own = part_extent(*data->mesh, o.input.field);
+        whole = r.recorded ? recorded_extent(*data, o.input.field) : r.own;
+    });
+    if (!r.recorded) {
+        held.agree();
+        mpi::reduce_extent(whole.bounds, whole.range, whole.longest_edge);
+    }
+    held.run([&] { r.scene.emplace(setup_scene(std::move(*data), o, whole)); });
+    if (!r.recorded) held.agree();
     st.build_seconds = ms_since(t_setup) / 1000.0;
-    st.cells = scene->mesh().tets.size();
-    return std::move(*scene);
+    if (r.scene) st.cells = r.scene->mesh().tets.size();
+    return r;
+}
+
+// Collective, after the stages that need nothing from other ranks: every rank's failure known to all; where the .pvtu
+// records the whole's extent, the parts' extent joined must be exactly that record (a record that does not match its
+// pieces would move the camera and the colours: refused, naming the file).
+void settle(mpi::HeldFailure& held, RankScene& r, const std::string& path)
+{
+    held.agree();
+    if (!r.recorded) return;
+    SceneExtent parts = r.own;
+    mpi::reduce_extent(parts.bounds, parts.range, parts.longest_edge);
+    const SceneExtent& w = *r.scene->whole;
+    if (parts.bounds.lo != w.bounds.lo || parts.bounds.hi != w.bounds.hi || parts.range.lo != w.range.lo ||
+        parts.range.hi != w.range.hi || parts.longest_edge != w.longest_edge)
+        throw mpi::RanksFailed(path,
+                               "records a whole extent (FieldData) that its pieces do not have: write it again with "
+                               "uvr partition");
 }
 
 }  // namespace
@@ -94,14 +150,22 @@ void render_reference_parallel(const SceneOptions& o, const std::string& out, bo
 {
     const auto start = Clock::now();
     mpi::RankStats st;
-    const Scene s = rank_scene(o, st);
-    const auto t_build = Clock::now();
-    const RayIntegrator integrator(s.mesh(), *s.topology, s.field, s.tf);
-    st.build_seconds += ms_since(t_build) / 1000.0;
-
-    std::vector<Fragment> fragments = trace_fragments(integrator, s.camera, s.width, s.height, st.trace);
+    mpi::HeldFailure held;
+    RankScene r = rank_scene(o, st, held);
+    std::vector<Fragment> fragments;
+    held.run([&] {
+        const auto t_build = Clock::now();
+        const RayIntegrator integrator(r.scene->mesh(), *r.scene->topology, r.scene->field, r.scene->tf);
+        st.build_seconds += ms_since(t_build) / 1000.0;
+        fragments = trace_fragments(integrator, r.scene->camera, r.scene->width, r.scene->height, st.trace);
+    });
+    const auto t_settle = Clock::now();
+    settle(held, r, o.input.path);
+    const double settle_seconds = ms_since(t_settle) / 1000.0;  // the wait for the other ranks: part of "exchange"
+    const Scene& s = *r.scene;
     const Image image = mpi::composite_across_ranks(fragments, s.width, s.height, st.exchange);
     st.peak_memory_bytes = peak_memory_bytes();
+    st.exchange.exchange_seconds += settle_seconds;
     const std::vector<mpi::RankStats> ranks = mpi::gather_stats(st);
     if (mpi::rank() != 0) return;
 
@@ -136,12 +200,14 @@ void render_sort_last_parallel(const SceneOptions& o, const std::string& algo, c
 {
     const auto start = Clock::now();
     mpi::RankStats st;
-    const Scene s = rank_scene(o, st);
+    mpi::HeldFailure held;
+    RankScene r = rank_scene(o, st, held);
     // Each piece this rank holds is a part: rendered on its own, sent to rank 0 with its box and its stats as
     // [piece (uint32), box (6 doubles), image (width x height x 4 floats), stats' length (uint32), stats (JSON text)].
     const auto t_render = Clock::now();
     std::vector<char> mine;
-    mpi::on_every_rank([&] {
+    held.run([&] {
+        const Scene& s = *r.scene;
         std::vector<uint32_t> pieces = s.data.piece_of_cell;
         std::sort(pieces.begin(), pieces.end());
         pieces.erase(std::unique(pieces.begin(), pieces.end()), pieces.end());
@@ -163,6 +229,8 @@ void render_sort_last_parallel(const SceneOptions& o, const std::string& algo, c
     });
     st.trace.seconds = ms_since(t_render) / 1000.0;
     const auto t_gather = Clock::now();
+    settle(held, r, o.input.path);
+    const Scene& s = *r.scene;
     const std::vector<std::vector<char>> all = mpi::gather_bytes(mine);
     st.exchange.exchange_seconds = ms_since(t_gather) / 1000.0;
     st.exchange.bytes_sent = mpi::rank() == 0 ? 0 : mine.size();

@@ -4,6 +4,7 @@
 
 #include <new>
 #include <string>
+#include <utility>
 
 #include "reference/error.h"
 #include "reference/mesh.h"
@@ -38,21 +39,41 @@ public:
 // throws RanksFailed with all the failed ranks' messages; otherwise every rank goes on. Collective.
 void agree(const std::string& error);
 
-// Runs `stage` on this rank and agrees on its failure (an InputError, or memory running out) with every other rank.
-// Collective.
+// This rank's failure in `stage`: the message of an InputError, "out of memory", or "" when it succeeded.
 template <class Stage>
-void on_every_rank(Stage&& stage)
+std::string failure_of(Stage&& stage)
 {
-    std::string error;
     try {
         stage();
     } catch (const InputError& e) {
-        error = e.what();
+        return e.what();
     } catch (const std::bad_alloc&) {
-        error = "out of memory";
+        return "out of memory";
     }
-    agree(error);
+    return "";
 }
+
+// Runs `stage` on this rank and agrees on its failure with every other rank. Collective.
+template <class Stage>
+void on_every_rank(Stage&& stage)
+{
+    agree(failure_of(stage));
+}
+
+// A failure held back to a later agreement, for stages that need nothing from other ranks: once this rank fails, its
+// later stages are skipped, and agree() (collective) tells every rank.
+class HeldFailure {
+public:
+    template <class Stage>
+    void run(Stage&& stage)
+    {
+        if (error_.empty()) error_ = failure_of(stage);
+    }
+    void agree() { mpi::agree(std::exchange(error_, std::string())); }
+
+private:
+    std::string error_;
+};
 
 // The whole data's bounds, field range and longest edge from each rank's part (componentwise min and max). Collective.
 void reduce_extent(Bounds& bounds, Range& range, double& longest_edge);

@@ -8,6 +8,7 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "reference/mesh.h"
@@ -23,6 +24,15 @@ struct LoadOptions {
     std::string time_step = "last";                   // Exodus II: the time step's index (from 1), or "last"
 };
 
+// The whole mesh's extent as a .pvtu that `uvr partition` wrote records it (docs/distributed.md): its pieces' bounds,
+// longest edge of a tetrahedron that is not flat, and each field's range, joined, so that a rank reading only its
+// pieces knows them without waiting for the other ranks.
+struct WholeExtent {
+    Bounds bounds;
+    double longest_edge = 0.0;
+    std::vector<std::pair<std::string, Range>> ranges;  // per field, by name
+};
+
 // A file holds either a tetrahedral mesh or a regular grid. Warnings are things the user should hear about but that do
 // not stop the load (skipped 2D cells, ignored cell data, re-oriented tetrahedra).
 struct Dataset {
@@ -34,6 +44,8 @@ struct Dataset {
     std::string info_json;
     // A file of pieces (.pvtu): per tetrahedron, the index of the piece it came from; empty for every other file.
     std::vector<uint32_t> piece_of_cell;
+    // A .pvtu that records the whole mesh's extent: what it records (read_pvtu); empty for every other file.
+    std::optional<WholeExtent> whole;
 };
 
 Dataset load_dataset(const std::string& path, const LoadOptions& options = {});
@@ -47,8 +59,11 @@ Dataset read_vtk_xml(const std::string& path);            // .vtu UnstructuredGr
 Dataset read_pvtu(const std::string& path);
 // The pieces dealt to `rank` of `ranks` (contiguous, as even as the counts allow: rank r reads pieces
 // [r P / ranks, (r + 1) P / ranks) of P), joined; piece_of_cell holds their indices in the whole file. Throws
-// InputError naming the file when it has fewer pieces than ranks, and naming the piece that is missing or bad.
+// InputError naming the file when it has fewer pieces than ranks, and naming the piece that is missing or bad. The
+// whole's extent comes from the file's FieldData when it records one (write_pvtu), malformed records refused.
 Dataset read_pvtu(const std::string& path, std::size_t rank, std::size_t ranks);
+// The whole's extent a .pvtu records, without reading its pieces; nothing when it records none.
+std::optional<WholeExtent> read_pvtu_whole_extent(const std::string& path);
 Dataset read_tetgen(const std::string& path);             // .node + .ele (either name given)
 Dataset read_off(const std::string& path);                // tetrahedral OFF
 Dataset read_plot3d(const std::string& xyz_path, const std::string& q_path);

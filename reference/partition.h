@@ -54,13 +54,13 @@ std::vector<uint32_t> partition_rcb(const TetMesh& mesh, uint32_t parts,
 std::vector<uint32_t> partition_metis(const TetMesh& mesh, uint32_t parts,
                                       const std::vector<uint64_t>* steps = nullptr);
 
-// rcb's weight of a tetrahedron for a view is its steps plus this: what reading it, its topology and its share of the
-// integrator's set-up cost a rank, in steps of the walk. Sized on Blunt Fin's 2 rcb parts balanced for (-40, 70) at
-// 512^2 on this project's 2-core test machine: reading and building cost about 0.8 us a tetrahedron and a step
-// 0.11 us, but the ranks wait for each other after reading and after building, so the trace's balance counts most;
-// weights of 0, 3 and 10 gave 2 ranks' render (read to image) 0.463, 0.432 and 0.507 s (docs/distributed.md,
-// "Balanced for a view").
-inline constexpr uint64_t kCellWorkInSteps = 3;
+// rcb's weight of a tetrahedron for a view is its steps plus this: what else a tetrahedron costs its rank, in steps of
+// the walk. The ranks read, build and trace without waiting for each other (docs/distributed.md), so a part's work is
+// its read, build and trace together: on Blunt Fin's 2 rcb parts for (-40, 70) at 512^2, on this project's 2-core test
+// machine, reading and building cost about 0.8 us a tetrahedron and a step about 0.05 us (a ratio of 17), and the part
+// of more, smaller cells walks slower (its cells fill more of the caches); of 17, 24 and 32, 24 balanced the ranks'
+// read-to-image time best (docs/distributed.md, "Balanced for a view").
+inline constexpr uint64_t kCellWorkInSteps = 24;
 
 // Per tetrahedron, the steps the rays of a width x height image of `camera` take through it: its ray work in that view
 // (RayIntegrator::integrate_counting, one ray per pixel, as the reference renders).

@@ -25,6 +25,7 @@
 #include "reference/cells.h"
 #include "reference/error.h"
 #include "reference/io_util.h"
+#include "reference/write_vtk_xml.h"
 
 namespace uvr {
 
@@ -268,6 +269,20 @@ int components(const XmlFile& f, const pugi::xml_node& da)
     return c;
 }
 
+// The numbers of a text separated by white space; empty unless the whole text is numbers.
+std::vector<double> numbers_of_text(const char* s)
+{
+    std::vector<double> v;
+    char* end = nullptr;
+    for (double x = std::strtod(s, &end); end != s; x = std::strtod(s, &end)) {
+        v.push_back(x);
+        s = end;
+    }
+    while (*s == ' ' || *s == '\t' || *s == '\n' || *s == '\r') ++s;
+    if (*s) v.clear();
+    return v;
+}
+
 // `count` numbers from an attribute such as WholeExtent or Spacing; `fallback` when the attribute is absent.
 std::vector<double> number_list(const XmlFile& f, const pugi::xml_node& node, const char* name, std::size_t count,
                                 std::vector<double> fallback)
@@ -277,15 +292,8 @@ std::vector<double> number_list(const XmlFile& f, const pugi::xml_node& node, co
         if (fallback.empty()) f.fail(std::string("<") + node.name() + "> has no " + name + " attribute");
         return fallback;
     }
-    std::vector<double> v;
-    const char* s = attr.value();
-    char* end = nullptr;
-    for (double x = std::strtod(s, &end); end != s; x = std::strtod(s, &end)) {
-        v.push_back(x);
-        s = end;
-    }
-    while (*s == ' ' || *s == '\t' || *s == '\n' || *s == '\r') ++s;
-    if (v.size() != count || *s)
+    const std::vector<double> v = numbers_of_text(attr.value());
+    if (v.size() != count)
         f.fail(std::string("<") + node.name() + "> " + name + " must be " + std::to_string(count) +
                " numbers, found '" + brief(attr.value()) + "'");
     return v;
@@ -563,6 +571,43 @@ Dataset read_vtk_xml(const std::string& path)
 
 namespace {
 
+// The `count` finite numbers of an ASCII DataArray of a .pvtu's FieldData.
+std::vector<double> field_data_numbers(const XmlFile& f, const pugi::xml_node& da, std::size_t count)
+{
+    if (std::string(da.attribute("format").value()) != "ascii")
+        f.fail("FieldData's " + array_label(da) + " must be format=\"ascii\"");
+    const std::vector<double> v = numbers_of_text(da.child_value());
+    if (v.size() != count || !std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); }))
+        f.fail("FieldData's " + array_label(da) + " must be " + std::to_string(count) + " finite numbers, found '" +
+               brief(da.child_value()) + "'");
+    return v;
+}
+
+// The whole mesh's extent that write_pvtu records in FieldData; nothing when the file records none. A record without
+// its longest edge, or with a range for a field the pieces do not hold (checked by the caller), is refused.
+std::optional<WholeExtent> read_whole_extent(const XmlFile& f, const pugi::xml_node& grid)
+{
+    const pugi::xml_node data = grid.child("FieldData");
+    const pugi::xml_node bounds = data.find_child_by_attribute("DataArray", "Name", kWholeBoundsArray);
+    if (!bounds) return std::nullopt;
+    WholeExtent w;
+    const std::vector<double> b = field_data_numbers(f, bounds, 6);
+    w.bounds.lo = glm::dvec3(b[0], b[1], b[2]);
+    w.bounds.hi = glm::dvec3(b[3], b[4], b[5]);
+    const pugi::xml_node longest = data.find_child_by_attribute("DataArray", "Name", kWholeLongestEdgeArray);
+    if (!longest)
+        f.fail(std::string("FieldData records '") + kWholeBoundsArray + "' without '" + kWholeLongestEdgeArray + "'");
+    w.longest_edge = field_data_numbers(f, longest, 1)[0];
+    const std::string prefix = kWholeRangePrefix;
+    for (const pugi::xml_node& da : data.children("DataArray")) {
+        const std::string name = da.attribute("Name").value();
+        if (name.rfind(prefix, 0) != 0) continue;
+        const std::vector<double> r = field_data_numbers(f, da, 2);
+        w.ranges.push_back({name.substr(prefix.size()), Range{r[0], r[1]}});
+    }
+    return w;
+}
+
 std::string field_list(const TetMesh& mesh)
 {
     std::string out;
@@ -600,19 +645,38 @@ Dataset read_pvtu(const std::string& path)
     return read_pvtu(path, 0, 1);
 }
 
-Dataset read_pvtu(const std::string& path, std::size_t rank, std::size_t ranks)
+namespace {
+
+// The <PUnstructuredGrid> element of the .pvtu at f.path, parsed into `doc`.
+pugi::xml_node parse_pvtu(XmlFile& f, pugi::xml_document& doc)
 {
-    const std::string data = read_file_bytes(path);
-    if (data.empty()) throw InputError(path, "empty file (not a VTK XML file)");
-    XmlFile f;
-    f.path = path;
-    pugi::xml_document doc;
+    const std::string data = read_file_bytes(f.path);
+    if (data.empty()) throw InputError(f.path, "empty file (not a VTK XML file)");
     parse_xml(f, data, doc);
     const pugi::xml_node root = doc.document_element();
     if (std::string(root.name()) != "VTKFile" || std::string(root.attribute("type").value()) != "PUnstructuredGrid")
         f.fail("not a parallel unstructured grid: expected <VTKFile type=\"PUnstructuredGrid\">");
     const pugi::xml_node grid = root.child("PUnstructuredGrid");
     if (!grid) f.fail("missing <PUnstructuredGrid> element");
+    return grid;
+}
+
+}  // namespace
+
+std::optional<WholeExtent> read_pvtu_whole_extent(const std::string& path)
+{
+    XmlFile f;
+    f.path = path;
+    pugi::xml_document doc;
+    return read_whole_extent(f, parse_pvtu(f, doc));
+}
+
+Dataset read_pvtu(const std::string& path, std::size_t rank, std::size_t ranks)
+{
+    XmlFile f;
+    f.path = path;
+    pugi::xml_document doc;
+    const pugi::xml_node grid = parse_pvtu(f, doc);
 
     Dataset out;
     TetMesh mesh;
@@ -643,6 +707,12 @@ Dataset read_pvtu(const std::string& path, std::size_t rank, std::size_t ranks)
         for (std::string& w : d.warnings) out.warnings.push_back(std::move(w));
         ++index;
     }
+    out.whole = read_whole_extent(f, grid);
+    if (out.whole)
+        for (const ScalarField& field : mesh.fields)
+            if (std::none_of(out.whole->ranges.begin(), out.whole->ranges.end(),
+                             [&](const auto& r) { return r.first == field.name; }))
+                f.fail("FieldData records the whole's extent but no range of field '" + field.name + "'");
     // Each piece was finalized by its reader; joining them renumbers indices only, so the invariants hold.
     out.mesh = std::move(mesh);
     out.info_json = nlohmann::json({{"format", "VTK PUnstructuredGrid"}, {"pieces", pieces}}).dump();

@@ -1,5 +1,6 @@
 #include "reference/write_vtk_xml.h"
 
+#include <cstdio>
 #include <cstring>
 
 #include "reference/io_util.h"
@@ -79,7 +80,36 @@ void write_vtu(const std::string& path, const TetMesh& mesh)
     write_file_atomically(path, xml);
 }
 
-void write_pvtu(const std::string& path, const TetMesh& like, const std::vector<std::string>& pieces)
+namespace {
+
+// One tuple of `values` as an ASCII DataArray of FieldData; 17 significant digits give every double back exactly.
+std::string ascii_array(const std::string& name, const std::vector<double>& values)
+{
+    std::string text;
+    char number[32];
+    for (double v : values) {
+        std::snprintf(number, sizeof number, "%.17g", v);
+        text += (text.empty() ? "" : " ") + std::string(number);
+    }
+    return "<DataArray type=\"Float64\" Name=\"" + escape_markup(name) +
+           "\" NumberOfTuples=\"1\" NumberOfComponents=\"" + std::to_string(values.size()) + "\" format=\"ascii\">" +
+           text + "</DataArray>\n";
+}
+
+std::string whole_extent_xml(const WholeExtent& whole)
+{
+    const Bounds& b = whole.bounds;
+    std::string xml = "<FieldData>\n" +
+                      ascii_array(kWholeBoundsArray, {b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z}) +
+                      ascii_array(kWholeLongestEdgeArray, {whole.longest_edge});
+    for (const auto& [name, range] : whole.ranges) xml += ascii_array(kWholeRangePrefix + name, {range.lo, range.hi});
+    return xml + "</FieldData>\n";
+}
+
+}  // namespace
+
+void write_pvtu(const std::string& path, const TetMesh& like, const std::vector<std::string>& pieces,
+                const WholeExtent* whole)
 {
     auto declarations = [&](FieldAssociation association) {
         std::string xml;
@@ -92,6 +122,7 @@ void write_pvtu(const std::string& path, const TetMesh& like, const std::vector<
     std::string xml =
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" "
         "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n<PUnstructuredGrid GhostLevel=\"0\">\n";
+    if (whole) xml += whole_extent_xml(*whole);
     xml += "<PPointData>\n" + declarations(FieldAssociation::point) + "</PPointData>\n";
     xml += "<PCellData>\n" + declarations(FieldAssociation::cell) + "</PCellData>\n";
     xml += "<PPoints>\n<PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n</PPoints>\n";

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "reference/dataset.h"
 #include "reference/mesh.h"
 
 namespace uvr {
@@ -17,7 +18,15 @@ namespace uvr {
 void write_vtu(const std::string& path, const TetMesh& mesh);
 
 // A PUnstructuredGrid naming `pieces` (paths relative to the .pvtu's directory) that hold meshes with the fields of
-// `like`. Written atomically; throws InputError naming `path`.
-void write_pvtu(const std::string& path, const TetMesh& like, const std::vector<std::string>& pieces);
+// `like`; with `whole`, the whole mesh's extent as FieldData (ASCII doubles of 17 digits, read back bit for bit;
+// readers that do not know the arrays skip them). Written atomically; throws InputError naming `path`.
+void write_pvtu(const std::string& path, const TetMesh& like, const std::vector<std::string>& pieces,
+                const WholeExtent* whole = nullptr);
+
+// The names of the FieldData arrays that record a WholeExtent in a .pvtu; a field's range is named kWholeRangePrefix
+// followed by the field's name.
+inline constexpr const char* kWholeBoundsArray = "uvr whole bounds";
+inline constexpr const char* kWholeLongestEdgeArray = "uvr whole longest edge";
+inline constexpr const char* kWholeRangePrefix = "uvr whole range: ";
 
 }  // namespace uvr

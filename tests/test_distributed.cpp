@@ -405,6 +405,43 @@ TEST_CASE("mpirun: a rank that cannot read its piece ends every rank, with the p
     }
 }
 
+TEST_CASE("mpirun: a .pvtu that records no extent renders the same image, one whose record is wrong is refused")
+{
+    TempDir dir("mpi-extent");
+    const std::string pvtu = partition("builtin:torus-small", "torus", 3, "rcb", dir);
+    const std::string text = test::file_contents(pvtu);
+    const std::size_t begin = text.find("<FieldData>"), end = text.find("</FieldData>\n");
+    REQUIRE(begin != std::string::npos);
+    REQUIRE(end != std::string::npos);
+    const std::string common = " --size 64x48 --view 30,20 --no-cache --out ";
+    const std::string one = dir.file("one.npy");
+    REQUIRE(test::run_uvr("render builtin:torus-small" + common + quoted(one)).exit_code == 0);
+    SECTION("without the record (as other tools write a .pvtu) the ranks agree on the extent and render the same")
+    {
+        dir.write("torus/torus-small.pvtu", text.substr(0, begin) + text.substr(end + 13));
+        const std::string out = dir.file("bare.npy");
+        const CommandResult r = run_ranks(3, "render " + quoted(pvtu) + common + quoted(out));
+        INFO(r.err);
+        REQUIRE(r.exit_code == 0);
+        CHECK(diff(read_npy(out), read_npy(one)).max <= kDistributedTolerance);
+    }
+    SECTION("a record its pieces do not have (a bound moved) ends every rank, the file named, no image")
+    {
+        const std::string bounds = "Name=\"uvr whole bounds\"";
+        const std::size_t first = text.find('>', text.find(bounds)) + 1;
+        std::string moved = text;
+        moved.replace(first, text.find(' ', first) - first, "-100");  // the lowest x, far below the torus's -1.4
+        dir.write("torus/torus-small.pvtu", moved);
+        const std::string out = dir.file("never.npy");
+        const CommandResult r = run_ranks(3, "render " + quoted(pvtu) + common + quoted(out));
+        INFO(r.err);
+        CHECK(r.exit_code != 0);
+        CHECK(r.exit_code != 124);
+        CHECK_THAT(r.err, Catch::Contains(pvtu) && Catch::Contains("records a whole extent"));
+        CHECK_FALSE(std::filesystem::exists(out));
+    }
+}
+
 TEST_CASE("mpirun: what the data-parallel run cannot do is refused on every rank")
 {
     TempDir dir("mpi-refuse");

@@ -1,7 +1,9 @@
 // Partitioned meshes: recursive coordinate bisection, the .vtu pieces and .pvtu file `uvr partition` writes, and
 // reading them back as one mesh (docs/distributed.md).
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +14,7 @@
 #include "reference/builtin_mesh.h"
 #include "reference/dataset.h"
 #include "reference/partition.h"
+#include "gpu/pipeline/segment.h"
 #include "reference/write_vtk_xml.h"
 #include "test_support.h"
 
@@ -228,4 +231,73 @@ TEST_CASE("uvr partition refuses parts it cannot make, an unknown method and a r
     CHECK(grid.exit_code == 1);
     CHECK_THAT(grid.err, Catch::Contains("splits tetrahedral meshes, not regular grids"));
     CHECK(!std::filesystem::exists(dir.file("out")));
+}
+
+TEST_CASE("the extent a .pvtu records is its pieces' joined, bit for bit, and a malformed record is refused")
+{
+    TempDir dir("pvtu-extent");
+    // A box with a cell field and a point field of values no short decimal holds.
+    uvr::TetMesh box = uvr::test::cell_data_box();
+    uvr::ScalarField point{"point", {}};
+    for (const glm::dvec3& p : box.points) point.values.push_back(std::sin(1.0 + p.x) * std::exp(0.3 * p.y) / 3.0);
+    box.fields.push_back(point);
+    uvr::write_vtu(dir.file("box.vtu"), box);
+    REQUIRE(run_uvr("partition '" + dir.file("box.vtu") + "' --parts 3 --out '" + dir.file("p") + "'").exit_code == 0);
+    const std::string pvtu = dir.file("p/box.pvtu");
+    const std::optional<uvr::WholeExtent> w = uvr::read_pvtu_whole_extent(pvtu);
+    REQUIRE(w);
+    // What one process computes from the pieces joined: the record must be exactly that.
+    const uvr::TetMesh joined = *uvr::load_dataset(pvtu).mesh;
+    const uvr::Bounds b = uvr::mesh_bounds(joined);
+    CHECK(w->bounds.lo == b.lo);
+    CHECK(w->bounds.hi == b.hi);
+    CHECK(w->longest_edge == uvr::gpu::longest_tet_edge(joined));
+    REQUIRE(w->ranges.size() == joined.fields.size());
+    for (const uvr::ScalarField& f : joined.fields) {
+        const auto r =
+            std::find_if(w->ranges.begin(), w->ranges.end(), [&](const auto& e) { return e.first == f.name; });
+        REQUIRE(r != w->ranges.end());
+        CHECK(r->second.lo == uvr::field_range(f).lo);
+        CHECK(r->second.hi == uvr::field_range(f).hi);
+    }
+
+    const std::string text = uvr::test::file_contents(pvtu);
+    // The line of the DataArray named `name`; its opening tag; the file with that line replaced by `line`.
+    const auto line_of = [&](const std::string& name) {
+        const std::size_t at = text.find("Name=\"" + name + "\"");
+        REQUIRE(at != std::string::npos);
+        const std::size_t begin = text.rfind('\n', at) + 1;
+        return text.substr(begin, text.find('\n', at) + 1 - begin);
+    };
+    const auto opening = [&](const std::string& name) {
+        const std::string line = line_of(name);
+        return line.substr(0, line.find('>') + 1);
+    };
+    const auto with = [&](const std::string& name, const std::string& line) {
+        std::string t = text;
+        const std::string old = line_of(name);
+        return t.replace(t.find(old), old.size(), line);
+    };
+    const std::string bounds = uvr::kWholeBoundsArray, edge = uvr::kWholeLongestEdgeArray,
+                      cell_range = uvr::kWholeRangePrefix + std::string("cell"),
+                      point_range = uvr::kWholeRangePrefix + std::string("point");
+    std::string binary = opening(bounds);
+    binary.replace(binary.find("ascii"), 5, "binary");
+    const struct {
+        std::string what, text, message;
+    } bad[] = {
+        {"five bounds", with(bounds, opening(bounds) + "0 0 0 1 1</DataArray>\n"), "must be 6 finite numbers"},
+        {"bounds not in ASCII", with(bounds, binary + "AAAA</DataArray>\n"), "must be format=\"ascii\""},
+        {"no longest edge", with(edge, ""), "without 'uvr whole longest edge'"},
+        {"no range of a field", with(point_range, ""), "no range of field 'point'"},
+        {"a range that is not a number", with(cell_range, opening(cell_range) + "0 nan</DataArray>\n"),
+         "must be 2 finite numbers"},
+    };
+    for (const auto& c : bad) {
+        INFO(c.what);
+        dir.write("p/box.pvtu", c.text);
+        const CommandResult r = run_uvr("info '" + pvtu + "'");
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains(pvtu) && Catch::Contains(c.message));
+    }
 }

@@ -16,10 +16,11 @@ double longest_tet_edge(const TetMesh& mesh)
 {
     double longest = 0.0;
     for (const Tet& t : mesh.tets) {
-        if (is_degenerate(mesh, t)) continue;
+        double edge = 0.0;
         for (int a = 0; a < 4; ++a)
-            for (int b = a + 1; b < 4; ++b)
-                longest = std::max(longest, glm::length(mesh.points[t[a]] - mesh.points[t[b]]));
+            for (int b = a + 1; b < 4; ++b) edge = std::max(edge, glm::length(mesh.points[t[a]] - mesh.points[t[b]]));
+        // Only a tetrahedron that would lengthen the answer is asked whether it is flat (the costlier test).
+        if (edge > longest && !is_degenerate(mesh, t)) longest = edge;
     }
     return longest;
 }
