@@ -5,6 +5,7 @@
 
 #include "box_mesh.h"
 #include "gpu/vicp/vicp.h"
+#include "gpu/vicp/vicp_published_lanes.h"
 #include "mesh_scenes.h"
 #include "vicp_bars.h"
 #include "image_errors.h"
@@ -294,4 +295,34 @@ TEST_CASE("the VICP frame without diagnostics has the same bits and no per-pixel
         // The published program's wrong exits are found with diagnostics (there are some on this view).
         if (mode == InterpolationMode::gpu) CHECK(with.stats.wrong_exits > 0);
     }
+}
+
+TEST_CASE("the published fragments composited eight at a time give each fragment's scalar bits, kills included")
+{
+    // The frame without diagnostics runs the published program and the table's compositing in AVX2 lanes where the
+    // host has them (gpu/vicp/vicp_published_lanes.h); with diagnostics, one fragment at a time. Every pixel of every
+    // view must be the same bits, over thousands of fragments, with the opacity kill on and off.
+    if (!vicp_published_lanes_available(host_viewport_arithmetic())) {
+        WARN("no AVX2 and FMA3 on this host: every frame takes the scalar path, nothing to compare");
+        return;
+    }
+    const Scene torus = test::make_scene(load_builtin("builtin:torus-small"), 0);
+    const Scene fin = test::blunt_fin();
+    std::size_t fragments = 0;
+    for (const Scene* s : {&torus, &fin})
+        for (const auto& [az, el] : {std::pair{30.0, 50.0}, {-40.0, 70.0}, {200.0, -10.0}})
+            for (const float threshold : {1.0f, 0.3f}) {
+                INFO(s->mesh.source << " from (" << az << ", " << el << "), threshold " << threshold);
+                const Camera cam = default_camera(mesh_bounds(s->mesh), 4.0 / 3.0, az, el);
+                VicpOptions o;
+                o.threshold = threshold;
+                const VicpFrame scalar = VicpRenderer(s->mesh, s->topo, s->field, s->tf, o, true).render(cam, 160, 120);
+                const VicpFrame lanes = VicpRenderer(s->mesh, s->topo, s->field, s->tf, o, false).render(cam, 160, 120);
+                std::size_t differ = 0;
+                for (std::size_t i = 0; i < scalar.image.rgba.size(); ++i)
+                    differ += std::memcmp(&scalar.image.rgba[i], &lanes.image.rgba[i], sizeof(float)) != 0;
+                CHECK(differ == 0);
+                fragments += scalar.stats.fragments;
+            }
+    CHECK(fragments > 100000);
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <type_traits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
@@ -16,6 +17,7 @@
 #include "gpu/pipeline/denormals.h"
 #include "gpu/pipeline/tiles.h"
 #include "gpu/vicp/vicp_published_fragment.h"
+#include "gpu/vicp/vicp_published_lanes.h"
 #include "reference/error.h"
 #include "reference/timing.h"
 
@@ -133,6 +135,20 @@ void VicpRenderer::composite_published(const VicpFrameConstants& fc, const VicpF
         VicpPublishedVaryings vary[3];
         for (int j = 0; j < 3; ++j) vary[j] = vicp_published_vertex_program(view, records[3 * f + j]);
         const VicpPublishedPlanes planes = vicp_published_planes(sv, vary, ts);
+        if constexpr (std::is_same_v<Shade, TableSegmentShader>) {
+            if (!diagnostics_ && vicp_published_lanes_available(arith)) {  // the same bits, eight fragments at once
+                FragmentBatch batch;
+                for_each_fragment_in_tile(ts, tile, [&](int px, int py) {
+                    batch.px[batch.n] = px;
+                    batch.py[batch.n] = py;
+                    if (++batch.n < FragmentBatch::kLanes) return;
+                    composite_published_lanes(planes, fc, shade, batch, width, fb.data());
+                    batch.n = 0;
+                });
+                if (batch.n > 0) composite_published_lanes(planes, fc, shade, batch, width, fb.data());
+                continue;
+            }
+        }
         // The ordering-error diagnostic's entry point (vicp_published_entry_distance): the vertex positions, `smooth`.
         AttributePlane entry_planes[3];
         for (int c = 0; c < (diagnostics_ ? 3 : 0); ++c) {
