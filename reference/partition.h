@@ -57,10 +57,10 @@ std::vector<uint32_t> partition_metis(const TetMesh& mesh, uint32_t parts,
 // rcb's weight of a tetrahedron for a view is its steps plus this: what else a tetrahedron costs its rank, in steps of
 // the walk. The ranks read, build and trace without waiting for each other (docs/distributed.md), so a part's work is
 // its read, build and trace together: on Blunt Fin's 2 rcb parts for (-40, 70) at 512^2, on this project's 2-core test
-// machine, reading and building cost about 0.8 us a tetrahedron and a step about 0.05 us (a ratio of 17), and the part
-// of more, smaller cells walks slower (its cells fill more of the caches); of 17, 24 and 32, 24 balanced the ranks'
-// read-to-image time best (docs/distributed.md, "Balanced for a view").
-inline constexpr uint64_t kCellWorkInSteps = 24;
+// machine, reading and building cost about 0.65 us a tetrahedron and a step about 0.05 us (a ratio of 13), and the part
+// of more, smaller cells walks slower (its cells fill more of the caches); of 17, 20 and 24, 17 and 20 balanced the
+// ranks' read-to-image time best (docs/distributed.md, "Balanced for a view").
+inline constexpr uint64_t kCellWorkInSteps = 20;
 
 // Per tetrahedron, the steps the rays of a width x height image of `camera` take through it: its ray work in that view
 // (RayIntegrator::integrate_counting, one ray per pixel, as the reference renders).

@@ -6,7 +6,8 @@
 #include <tuple>
 
 #include <glm/geometric.hpp>
-#include <tbb/parallel_sort.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include "reference/error.h"
 
@@ -47,6 +48,49 @@ std::string face_text(const std::array<uint32_t, 3>& k)
     return "(points " + std::to_string(k[0]) + " " + std::to_string(k[1]) + " " + std::to_string(k[2]) + ")";
 }
 
+// The four faces of every tetrahedron that is not flat (counted in `flat`), keyed by their sorted canonical points,
+// in the order (key, tetrahedron, corner): a total order, so the result is the same on any number of threads. The
+// references are placed by their least point first (a counting sort over the points: one pass to count, one to
+// place), then each point's few references are sorted; a global sort of them all took most of the topology's time.
+std::vector<FaceRef> sorted_face_refs(const TetMesh& mesh, const std::vector<uint32_t>& canonical, std::size_t& flat)
+{
+    const std::size_t nt = mesh.tets.size();
+    std::vector<uint8_t> skip(nt, 0);
+    const auto key_of = [&](std::size_t t, int i) {
+        auto f = tet_face(mesh.tets[t], i);
+        for (auto& v : f) v = canonical[v];
+        return sorted3(f);
+    };
+    std::vector<std::size_t> first(mesh.points.size() + 1, 0);  // bucket p: [first[p], first[p + 1])
+    for (std::size_t t = 0; t < nt; ++t) {
+        skip[t] = is_degenerate(mesh, mesh.tets[t]);
+        if (skip[t]) {
+            ++flat;
+            continue;
+        }
+        for (int i = 0; i < 4; ++i) ++first[key_of(t, i)[0] + 1];
+    }
+    std::partial_sum(first.begin(), first.end(), first.begin());
+    std::vector<FaceRef> refs(first.back());
+    std::vector<std::size_t> next(first.begin(), first.end() - 1);
+    for (std::size_t t = 0; t < nt; ++t)
+        for (int i = 0; i < (skip[t] ? 0 : 4); ++i) {
+            const std::array<uint32_t, 3> key = key_of(t, i);
+            refs[next[key[0]]++] = {key, static_cast<uint32_t>(t), static_cast<uint8_t>(i)};
+        }
+    // Compared field by field: std::array's operators compare through memcmp calls.
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, mesh.points.size(), 4096), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t p = r.begin(); p != r.end(); ++p)
+                std::sort(refs.begin() + std::ptrdiff_t(first[p]), refs.begin() + std::ptrdiff_t(first[p + 1]),
+                          [](const FaceRef& a, const FaceRef& b) {
+                              return std::tie(a.key[1], a.key[2], a.tet, a.local) <
+                                     std::tie(b.key[1], b.key[2], b.tet, b.local);
+                          });
+        });
+    return refs;
+}
+
 }  // namespace
 
 std::vector<uint32_t> canonical_points(const std::vector<glm::dvec3>& points)
@@ -73,27 +117,7 @@ MeshTopology build_topology(const TetMesh& mesh)
     const std::size_t nt = mesh.tets.size();
     MeshTopology topo;
     topo.canonical = canonical_points(mesh.points);
-    std::vector<FaceRef> refs;
-    refs.reserve(nt * 4);
-    for (std::size_t t = 0; t < nt; ++t) {
-        if (is_degenerate(mesh, mesh.tets[t])) {
-            ++topo.flat_tets;
-            continue;
-        }
-        for (int i = 0; i < 4; ++i) {
-            auto f = tet_face(mesh.tets[t], i);
-            for (auto& v : f) v = topo.canonical[v];
-            refs.push_back({sorted3(f), static_cast<uint32_t>(t), static_cast<uint8_t>(i)});
-        }
-    }
-    // Compared field by field: std::array's operators compare through memcmp calls, which took most of this sort. The
-    // order is total (no two references share tetrahedron and corner), so the parallel sort's result is the same on
-    // any number of threads.
-    tbb::parallel_sort(refs.begin(), refs.end(), [](const FaceRef& a, const FaceRef& b) {
-        return std::tie(a.key[0], a.key[1], a.key[2], a.tet, a.local) <
-               std::tie(b.key[0], b.key[1], b.key[2], b.tet, b.local);
-    });
-
+    const std::vector<FaceRef> refs = sorted_face_refs(mesh, topo.canonical, topo.flat_tets);
     topo.tet_faces.assign(nt, {-1, -1, -1, -1});
     topo.neighbor.assign(nt, {-1, -1, -1, -1});
     topo.faces.reserve(nt * 2 + nt / 4);

@@ -28,7 +28,7 @@ struct Face {
 
 struct MeshTopology {
     std::vector<uint32_t> canonical;              // per point: the smallest index of a point at the same position
-    std::vector<Face> faces;                      // sorted by their canonical vertex triple: deterministic
+    std::vector<Face> faces;  // sorted by their canonical vertex triple, tet[0] < tet[1] where shared: deterministic
     std::vector<std::array<int32_t, 4>> tet_faces;  // face index of the face opposite each vertex
     std::vector<std::array<int32_t, 4>> neighbor;   // tet across the face opposite each vertex, -1 on the boundary
     std::size_t boundary_faces = 0;

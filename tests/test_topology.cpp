@@ -55,6 +55,18 @@ void check_invariants(const TetMesh& mesh)
                 signed_volume6(mesh.points[f.v[0]], mesh.points[f.v[1]], mesh.points[f.v[2]], mesh.points[v]) >= 0.0)
                 ++bad_orientation;
     }
+    // Faces are numbered in the order of their sorted canonical points, and a shared face names the lower-numbered
+    // tetrahedron first (MeshTopology::faces): the same numbers on every run and thread count.
+    std::size_t out_of_order = 0;
+    std::array<uint32_t, 3> previous{};
+    for (std::size_t i = 0; i < topo.faces.size(); ++i) {
+        const Face& f = topo.faces[i];
+        std::array<uint32_t, 3> key = {topo.canonical[f.v[0]], topo.canonical[f.v[1]], topo.canonical[f.v[2]]};
+        std::sort(key.begin(), key.end());
+        if ((i > 0 && !(previous < key)) || (!f.boundary() && f.tet[0] >= f.tet[1])) ++out_of_order;
+        previous = key;
+    }
+    CHECK(out_of_order == 0);
     CHECK(bad_slots == 0);
     CHECK(bad_neighbors == 0);
     CHECK(bad_orientation == 0);
