@@ -309,7 +309,10 @@ TEST_CASE("the published fragments composited eight at a time give each fragment
     const Scene torus = test::make_scene(load_builtin("builtin:torus-small"), 0);
     const Scene fin = test::blunt_fin();
     std::size_t fragments = 0;
-    for (const Scene* s : {&torus, &fin})
+    // Under the sanitizers the torus only (the lanes' loads and stores are what they check; Blunt Fin adds frames).
+    const std::vector<const Scene*> scenes =
+        test::sanitized() ? std::vector<const Scene*>{&torus} : std::vector<const Scene*>{&torus, &fin};
+    for (const Scene* s : scenes)
         for (const auto& [az, el] : {std::pair{30.0, 50.0}, {-40.0, 70.0}, {200.0, -10.0}})
             for (const float threshold : {1.0f, 0.3f}) {
                 INFO(s->mesh.source << " from (" << az << ", " << el << "), threshold " << threshold);
