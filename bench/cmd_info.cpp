@@ -89,6 +89,8 @@ void print_format(const nlohmann::json& f)
     if (f.contains("times"))
         std::printf("  time steps   %zu (reading %s)\n", f["times"].size(),
                     f.value("time_step", nlohmann::json()).dump().c_str());
+    if (f.contains("whole_extent"))
+        std::printf("  recorded     the whole mesh's bounds, longest edge and field ranges (docs/distributed.md)\n");
 }
 
 void print_text(const nlohmann::json& j)

@@ -715,7 +715,16 @@ Dataset read_pvtu(const std::string& path, std::size_t rank, std::size_t ranks)
                 f.fail("FieldData records the whole's extent but no range of field '" + field.name + "'");
     // Each piece was finalized by its reader; joining them renumbers indices only, so the invariants hold.
     out.mesh = std::move(mesh);
-    out.info_json = nlohmann::json({{"format", "VTK PUnstructuredGrid"}, {"pieces", pieces}}).dump();
+    nlohmann::json info = {{"format", "VTK PUnstructuredGrid"}, {"pieces", pieces}};
+    if (out.whole) {
+        const Bounds& b = out.whole->bounds;
+        nlohmann::json ranges = nlohmann::json::object();
+        for (const auto& [name, r] : out.whole->ranges) ranges[name] = {r.lo, r.hi};
+        info["whole_extent"] = {{"bounds", {b.lo.x, b.lo.y, b.lo.z, b.hi.x, b.hi.y, b.hi.z}},
+                                {"longest_edge", out.whole->longest_edge},
+                                {"ranges", ranges}};
+    }
+    out.info_json = info.dump();
     return out;
 }
 

@@ -261,6 +261,16 @@ TEST_CASE("the extent a .pvtu records is its pieces' joined, bit for bit, and a 
         CHECK(r->second.hi == uvr::field_range(f).hi);
     }
 
+    // uvr info gives the record as it reads it.
+    const CommandResult info = run_uvr("info '" + pvtu + "' --json");
+    REQUIRE(info.exit_code == 0);
+    const nlohmann::json recorded = nlohmann::json::parse(info.out)["format"]["whole_extent"];
+    CHECK(recorded["bounds"][0].get<double>() == b.lo.x);
+    CHECK(recorded["bounds"][5].get<double>() == b.hi.z);
+    CHECK(recorded["longest_edge"].get<double>() == w->longest_edge);
+    CHECK(recorded["ranges"]["point"][1].get<double>() ==
+          uvr::field_range(joined.fields[uvr::find_field(joined, "point")]).hi);
+
     const std::string text = uvr::test::file_contents(pvtu);
     // The line of the DataArray named `name`; its opening tag; the file with that line replaced by `line`.
     const auto line_of = [&](const std::string& name) {
