@@ -72,7 +72,7 @@ __attribute__((target("avx2,fma"))) void composite_published_lanes(const VicpPub
         const int k = l < batch.n ? l : 0;
         px[l] = batch.px[k];
         py[l] = batch.py[k];
-        at[l] = 4 * (py[l] * width + px[l]);  // the pixel's first float in fb
+        at[l] = 4 * (py[l] * width + px[l]);  // the pixel's first float in fb: below 2^30 for --size's 16384^2
     }
     const V x = _mm256_cvtepi32_ps(_mm256_load_si256(reinterpret_cast<const I*>(px)));
     const V y = _mm256_cvtepi32_ps(_mm256_load_si256(reinterpret_cast<const I*>(py)));
