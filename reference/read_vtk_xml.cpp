@@ -584,7 +584,7 @@ std::vector<double> field_data_numbers(const XmlFile& f, const pugi::xml_node& d
 }
 
 // The whole mesh's extent that write_pvtu records in FieldData; nothing when the file records none. A record without
-// its longest edge, or with a range for a field the pieces do not hold (checked by the caller), is refused.
+// its longest edge is refused here, one without the range of a field the pieces hold by read_pvtu.
 std::optional<WholeExtent> read_whole_extent(const XmlFile& f, const pugi::xml_node& grid)
 {
     const pugi::xml_node data = grid.child("FieldData");

@@ -51,7 +51,7 @@ std::string face_text(const std::array<uint32_t, 3>& k)
 // The four faces of every tetrahedron that is not flat (counted in `flat`), keyed by their sorted canonical points,
 // in the order (key, tetrahedron, corner): a total order, so the result is the same on any number of threads. The
 // references are placed by their least point first (a counting sort over the points: one pass to count, one to
-// place), then each point's few references are sorted; a global sort of them all took most of the topology's time.
+// place), then each point's few references are sorted, which costs less than one sort of them all (docs/data-model.md).
 std::vector<FaceRef> sorted_face_refs(const TetMesh& mesh, const std::vector<uint32_t>& canonical, std::size_t& flat)
 {
     const std::size_t nt = mesh.tets.size();
