@@ -424,6 +424,14 @@ TEST_CASE("mpirun: a .pvtu that records no extent renders the same image, one wh
         INFO(r.err);
         REQUIRE(r.exit_code == 0);
         CHECK(diff(read_npy(out), read_npy(one)).max <= kDistributedTolerance);
+        // Sort-last takes the same way: HAVS over the pieces gives the one-process sort-last's bits.
+        const std::string havs = " --algo havs --size 64x48 --view 30,20 --out ";
+        const std::string one_havs = dir.file("one-havs.npy"), bare_havs = dir.file("bare-havs.npy");
+        REQUIRE(test::run_uvr("render builtin:torus-small --parts 3" + havs + quoted(one_havs)).exit_code == 0);
+        const CommandResult h = run_ranks(3, "render " + quoted(pvtu) + havs + quoted(bare_havs));
+        INFO(h.err);
+        REQUIRE(h.exit_code == 0);
+        CHECK(read_npy(one_havs).rgba == read_npy(bare_havs).rgba);
     }
     SECTION("a record its pieces do not have (a bound moved) ends every rank, the file named, no image")
     {
