@@ -32,6 +32,11 @@ struct WholeExtent {
     double longest_edge = 0.0;
     std::vector<std::pair<std::string, Range>> ranges;  // per field, by name
 };
+// The names of the FieldData arrays that record a WholeExtent in a .pvtu (write_pvtu writes them, read_pvtu reads
+// them); a field's range is named kWholeRangePrefix followed by the field's name.
+inline constexpr const char* kWholeBoundsArray = "uvr whole bounds";
+inline constexpr const char* kWholeLongestEdgeArray = "uvr whole longest edge";
+inline constexpr const char* kWholeRangePrefix = "uvr whole range: ";
 
 // A file holds either a tetrahedral mesh or a regular grid. Warnings are things the user should hear about but that do
 // not stop the load (skipped 2D cells, ignored cell data, re-oriented tetrahedra).

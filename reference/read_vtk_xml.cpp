@@ -25,7 +25,6 @@
 #include "reference/cells.h"
 #include "reference/error.h"
 #include "reference/io_util.h"
-#include "reference/write_vtk_xml.h"
 
 namespace uvr {
 

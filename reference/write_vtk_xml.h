@@ -23,10 +23,4 @@ void write_vtu(const std::string& path, const TetMesh& mesh);
 void write_pvtu(const std::string& path, const TetMesh& like, const std::vector<std::string>& pieces,
                 const WholeExtent* whole = nullptr);
 
-// The names of the FieldData arrays that record a WholeExtent in a .pvtu; a field's range is named kWholeRangePrefix
-// followed by the field's name.
-inline constexpr const char* kWholeBoundsArray = "uvr whole bounds";
-inline constexpr const char* kWholeLongestEdgeArray = "uvr whole longest edge";
-inline constexpr const char* kWholeRangePrefix = "uvr whole range: ";
-
 }  // namespace uvr
