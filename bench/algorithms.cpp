@@ -163,11 +163,12 @@ public:
     AlgoResult render(const Camera& camera, int width, int height) override
     {
         AlgoResult r;
-        // The key hashes the whole mesh: only where the cache is used.
-        const std::string key = s_.is_volume() || !use_cache_
-                                    ? std::string()
+        // The key hashes the whole mesh or grid: only where the cache is used.
+        const std::string key = !use_cache_ ? std::string()
+                                : s_.is_volume()
+                                    ? reference_cache_key(s_.volume(), s_.tf, camera, width, height)
                                     : reference_cache_key(s_.mesh(), s_.field, s_.tf, camera, width, height);
-        if (use_cache_ && !key.empty()) {  // the cache's key is a mesh's: regular grids are not cached
+        if (use_cache_) {
             if (auto img = cache_load(key, width, height)) {
                 r.image = std::move(*img);
                 r.cached = true;
@@ -185,7 +186,7 @@ public:
         if (mesh_ && st.failures)
             throw InputError(s_.mesh().source, std::to_string(st.failures) +
                                                    " rays were abandoned by the walk's guards; the image would be wrong");
-        if (use_cache_ && !key.empty()) cache_store(key, r.image);
+        if (use_cache_) cache_store(key, r.image);
         r.ms = st.seconds * 1000.0;
         r.stats = {{"cached", false}, {"rays", st.rays}, {mesh_ ? "segments" : "cell_pieces", st.segments},
                    {"entries", st.entries}, {"stages_ms", {{"integrate", r.ms}}}};

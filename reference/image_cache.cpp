@@ -17,6 +17,22 @@ void Fnv1a::add(const void* data, std::size_t n)
     }
 }
 
+namespace {
+
+// The scene's hash so far, finished with what every reference image depends on, as 16 hex digits.
+std::string finish_key(Fnv1a& h, const TransferFunction& tf, const Camera& camera, int width, int height)
+{
+    h.add(transfer_function_json(tf));
+    h.add(camera_json(camera));
+    h.add(&width, sizeof width);
+    h.add(&height, sizeof height);
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h.value()));
+    return buf;
+}
+
+}  // namespace
+
 std::string reference_cache_key(const TetMesh& mesh, std::size_t field, const TransferFunction& tf,
                                 const Camera& camera, int width, int height)
 {
@@ -27,13 +43,19 @@ std::string reference_cache_key(const TetMesh& mesh, std::size_t field, const Tr
     const ScalarField& f = mesh.fields.at(field);
     h.add(f.values.data(), f.values.size() * sizeof(double));
     h.add(&f.association, sizeof f.association);
-    h.add(transfer_function_json(tf));
-    h.add(camera_json(camera));
-    h.add(&width, sizeof width);
-    h.add(&height, sizeof height);
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h.value()));
-    return buf;
+    return finish_key(h, tf, camera, width, height);
+}
+
+std::string reference_cache_key(const Volume& volume, const TransferFunction& tf, const Camera& camera, int width,
+                                int height)
+{
+    Fnv1a h;
+    h.add(std::string(kVolumeReferenceCacheVersion));
+    h.add(volume.dims.data(), sizeof volume.dims);
+    h.add(&volume.origin, sizeof volume.origin);
+    h.add(&volume.spacing, sizeof volume.spacing);
+    h.add(volume.values.data(), volume.values.size() * sizeof(float));
+    return finish_key(h, tf, camera, width, height);
 }
 
 std::string reference_cache_dir()

@@ -56,15 +56,30 @@ glm::dvec3 integrate_gk(const F& f, double a, double b, double tol, int depth = 
     return integrate_gk(f, a, c, 0.5 * tol, depth + 1) + integrate_gk(f, c, b, 0.5 * tol, depth + 1);
 }
 
-// Where the cubic p reaches `value` on [a, b], on which it is monotone and changes sign against value: bisection to
-// the last representable midpoint.
+// A crossing is found when its bracket, or Newton's last step, is at most this many ulps of the stretch's far end:
+// a few ulps, the noise of evaluating the cubic near its root, and far below any length the integral resolves.
+constexpr double kCrossingUlps = 4.0;
+// Newton's method converges in a handful of steps; the bisections it falls back on halve the bracket each, so 200
+// steps reach the last representable midpoint of any stretch of doubles.
+constexpr int kMaxCrossingSteps = 200;
+
+// Where the cubic p reaches `value` on [a, b], on which it is monotone and changes sign against value: Newton's method
+// kept inside the bracket, bisecting where a step would leave it or not halve the bracket's error.
 double crossing(const Cubic& p, double value, double a, double b)
 {
     const bool rising = eval(p, b) > eval(p, a);
-    for (int it = 0; it < 200; ++it) {
-        const double m = 0.5 * (a + b);
-        if (!(m > a && m < b)) break;
-        ((eval(p, m) < value) == rising ? a : b) = m;
+    const double tol = kCrossingUlps * std::numeric_limits<double>::epsilon() * std::max(std::abs(a), std::abs(b));
+    double u = 0.5 * (a + b), last_step = b - a;
+    for (int it = 0; it < kMaxCrossingSteps && b - a > tol; ++it) {
+        const double f = eval(p, u) - value;
+        if (f == 0.0) return u;
+        ((f < 0.0) == rising ? a : b) = u;
+        const double slope = (3.0 * p[3] * u + 2.0 * p[2]) * u + p[1];
+        double next = u - f / slope;
+        if (!(next > a && next < b) || std::abs(next - u) > 0.5 * last_step) next = 0.5 * (a + b);
+        last_step = std::abs(next - u);
+        if (last_step <= tol) return next;
+        u = next;
     }
     return 0.5 * (a + b);
 }
@@ -101,6 +116,18 @@ double VolumeIntegrator::scalar_at(const glm::dvec3& p) const
     return s;
 }
 
+bool VolumeIntegrator::clear_between(double lo, double hi) const
+{
+    if (tf_.tau_at(lo) != 0.0 || tf_.tau_at(hi) != 0.0) return false;
+    // Linear between nodes: zero at both ends and at every node between (both sides of a jump) is zero throughout.
+    const auto& nodes = tf_.extinction;
+    auto it =
+        std::lower_bound(nodes.begin(), nodes.end(), lo, [](const ExtinctionNode& n, double v) { return n.s < v; });
+    for (; it != nodes.end() && it->s <= hi; ++it)
+        if (it->tau != 0.0) return false;
+    return true;
+}
+
 glm::dvec4 VolumeIntegrator::integrate_cell(const glm::dvec3& o, const glm::dvec3& d, double t0, double t1,
                                             double tol) const
 {
@@ -113,6 +140,13 @@ glm::dvec4 VolumeIntegrator::integrate_cell(const glm::dvec3& o, const glm::dvec
     }
     // The local coordinates along the piece, x_a(u) = x0[a] + u * dx[a] for u in [0, L], and the trilinear scalar as a
     // cubic in u: the sum over the corners of v * prod_a (corner_a ? x_a : 1 - x_a).
+    // Inside its cell the trilinear scalar lies between the corners' least and greatest: a cell where extinction is
+    // zero over that range adds nothing (C = 0 and alpha = 0 exactly) and is not integrated.
+    double corners[8];
+    for (int corner = 0; corner < 8; ++corner)
+        corners[corner] = sample(c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1));
+    const auto [lo, hi] = std::minmax_element(corners, corners + 8);
+    if (clear_between(*lo, *hi)) return glm::dvec4(0.0);
     const double L = t1 - t0;
     double x0[3], dx[3];
     for (int a = 0; a < 3; ++a) {
@@ -122,7 +156,7 @@ glm::dvec4 VolumeIntegrator::integrate_cell(const glm::dvec3& o, const glm::dvec
     }
     Cubic s{0.0, 0.0, 0.0, 0.0};
     for (int corner = 0; corner < 8; ++corner) {
-        Cubic p{sample(c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1)), 0.0, 0.0, 0.0};
+        Cubic p{corners[corner], 0.0, 0.0, 0.0};
         for (int a = 0; a < 3; ++a) {
             // Multiply by (alpha + beta u).
             const bool high = (corner >> a) & 1;
@@ -156,8 +190,10 @@ glm::dvec4 VolumeIntegrator::integrate_cell(const glm::dvec3& o, const glm::dvec
         const std::size_t monotone = cuts.size();
         for (std::size_t m = 1; m < monotone; ++m) {
             const double a = cuts[m - 1], b = cuts[m], sa = eval(s, a), sb = eval(s, b);
-            for (double br : breaks_)
-                if ((br > sa && br < sb) || (br < sa && br > sb)) cuts.push_back(crossing(s, br, a, b));
+            const double s_lo = std::min(sa, sb), s_hi = std::max(sa, sb);
+            for (auto br = std::upper_bound(breaks_.begin(), breaks_.end(), s_lo); br != breaks_.end() && *br < s_hi;
+                 ++br)
+                cuts.push_back(crossing(s, *br, a, b));
         }
         std::sort(cuts.begin(), cuts.end());
     }

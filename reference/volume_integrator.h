@@ -1,23 +1,7 @@
 // The ground truth for regular grids: docs/spec.md §1's emission-absorption along a ray through a volume's
-// trilinear field, in double, without shading.
-//
-// The field. Sample (i, j, k) sits at origin + (i, j, k) * spacing (reference/volume.h); between samples the scalar is
-// trilinear, so the data's domain is the box spanned by the samples, [origin, origin + (dims - 1) * spacing], and a
-// ray is integrated where it lies inside that box. (The GPU ray caster's texture also answers outside it, clamped to
-// the edge; that half-voxel rim is the ray caster's, not the data's.)
-//
-// The walk. Inside the box the ray is cut where it crosses the grid's planes: every crossing of every axis, computed
-// from the plane's own coordinate (no accumulated stepping error), merged in order. Each piece between consecutive
-// crossings lies in one cell, found from its midpoint, so a ray along a grid plane takes either neighbour: the
-// trilinear field is continuous there and both give the same scalar.
-//
-// One cell. Along the ray each local coordinate is linear in t, so the scalar s(t) is a cubic, exactly. The transfer
-// function is piecewise linear in s, so the piece is split again where s(t) crosses one of its breakpoints (the cubic's
-// monotone stretches between its critical points, each crossing found by bisection to the last bit). Between splits
-// colour c and extinction tau are linear in s, hence cubics in t, and the optical depth T(t) = integral of tau is a
-// quartic, exact. The emission integral C = integral of c tau exp(-T) dt has no closed form: adaptive Gauss-Kronrod
-// (7/15 points) to an absolute tolerance that sums to kVolumeQuadratureTolerance over the whole ray. The pieces
-// composite front to back (docs/spec.md §1).
+// trilinear field, in double, without shading, over the box the samples span. The ray is walked cell by cell; in a
+// cell the scalar is a cubic along the ray, cut at its critical points and the transfer function's breakpoints, and
+// each piece's emission integral is adaptive Gauss-Kronrod quadrature. docs/reference.md, "Regular grids".
 #pragma once
 
 #include <cstdint>
@@ -55,6 +39,8 @@ private:
     std::vector<double> breaks_;
     Bounds box_;
     double sample(int64_t i, int64_t j, int64_t k) const;
+    // Whether extinction is zero for every scalar in [lo, hi].
+    bool clear_between(double lo, double hi) const;
     glm::dvec4 integrate_cell(const glm::dvec3& o, const glm::dvec3& d, double t0, double t1, double tol) const;
 };
 

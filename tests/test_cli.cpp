@@ -167,6 +167,37 @@ TEST_CASE("uvr render --algo reference writes the image and reuses the cache")
     unsetenv("UVR_CACHE_DIR");
 }
 
+TEST_CASE("the reference of a regular grid is cached under a key of its samples")
+{
+    TempDir tmp("render-volume-cache");
+    setenv("UVR_CACHE_DIR", tmp.file("cache").c_str(), 1);
+    const auto write_volume = [&](unsigned char centre) {
+        std::string raw;
+        for (int k = 0; k < 6; ++k)
+            for (int j = 0; j < 6; ++j)
+                for (int i = 0; i < 6; ++i) raw += char(i == 3 && j == 3 && k == 3 ? centre : 10 * (i + j + k));
+        tmp.write("v.raw", raw);
+        return tmp.write("v.mhd",
+                         "NDims = 3\nDimSize = 6 6 6\nElementSpacing = 1 1 1\nElementType = MET_UCHAR\n"
+                         "ElementDataFile = v.raw\n");
+    };
+    const std::string mhd = write_volume(250);
+    const auto render = [&](const std::string& out) {
+        const CommandResult r =
+            run_uvr("render '" + mhd + "' --algo reference --size 24x20 --json --out '" + tmp.file(out) + "'");
+        INFO(r.err);
+        REQUIRE(r.exit_code == 0);
+        return nlohmann::json::parse(r.out);
+    };
+    CHECK(render("a.npy")["cached"] == false);
+    CHECK(render("b.npy")["cached"] == true);
+    CHECK(uvr::read_npy(tmp.file("b.npy")).rgba == uvr::read_npy(tmp.file("a.npy")).rgba);
+    write_volume(0);  // one sample changed: another key, another picture
+    CHECK(render("c.npy")["cached"] == false);
+    CHECK(uvr::read_npy(tmp.file("c.npy")).rgba != uvr::read_npy(tmp.file("a.npy")).rgba);
+    unsetenv("UVR_CACHE_DIR");
+}
+
 TEST_CASE("uvr bench times HAVS without counting fragments and prints no fragment rate for it")
 {
     // A timed frame runs without per-pixel diagnostics (so the emulation and GL do the same work): no fragment count,
@@ -437,7 +468,8 @@ TEST_CASE("uvr render --algo reference renders a regular grid; what needs a mesh
     const std::string volume = "'" + data_path("vtk-data/hydrogen.vti") + "' --size 48x40 ";
     SECTION("the trilinear reference: finite, not empty")
     {
-        const CommandResult r = run_uvr("render " + volume + "--algo reference --json --out '" + tmp.file("h.npy") + "'");
+        const CommandResult r =
+            run_uvr("render " + volume + "--algo reference --no-cache --json --out '" + tmp.file("h.npy") + "'");
         INFO(r.err);
         REQUIRE(r.exit_code == 0);
         const uvr::Image img = uvr::read_npy(tmp.file("h.npy"));
