@@ -279,6 +279,8 @@ SegmentIntegrator::SegmentIntegrator(const TransferFunction& tf) : tf_(tf), brea
 
 glm::dvec4 SegmentIntegrator::integrate_piece(const Piece& p, double sa, double sb, double length) const
 {
+    // No extinction over the interval: nothing is emitted or absorbed; integrate_linear_piece would give these zeros.
+    if (p.tau == 0.0 && p.dtau == 0.0) return glm::dvec4(0.0);
     const glm::dvec3 ca = p.c + p.dc * (sa - p.lo), cb = p.c + p.dc * (sb - p.lo);
     return integrate_linear_piece(ca, cb, p.tau + p.dtau * (sa - p.lo), p.tau + p.dtau * (sb - p.lo), length);
 }
@@ -372,6 +374,10 @@ void SegmentIntegrator::integrate_many(std::size_t n, const double* s_front, con
         const Piece* p = L > 0.0 ? single_piece(s_front[i], s_back[i], k) : nullptr;
         if (!p) {
             out[i] = integrate(s_front[i], s_back[i], L);
+            continue;
+        }
+        if (p->tau == 0.0 && p->dtau == 0.0) {  // clear: integrate_piece's zeros
+            out[i] = glm::dvec4(0.0);
             continue;
         }
         // integrate_piece's and integrate_linear_piece's arithmetic, the same operations in the same order.

@@ -121,10 +121,28 @@ SegmentShader segment_shader(const PreintegrationTable* table, TextureFilter fil
             return table->sample(uf, ub, tz, cpu, filter);
         };
     }
-    const double lo = range.lo, span = range.hi > range.lo ? range.hi - range.lo : 1.0;
-    return [&integrator, lo, span](float uf, float ub, float, float length) {
-        return glm::vec4(integrator.integrate(lo + double(uf) * span, lo + double(ub) * span, double(length)));
-    };
+    return *exact_segment_shader(nullptr, integrator, range);
+}
+
+std::optional<ExactSegmentShader> exact_segment_shader(const PreintegrationTable* table,
+                                                       const SegmentIntegrator& integrator, const Range& range)
+{
+    if (table) return std::nullopt;
+    return ExactSegmentShader{&integrator, range.lo, range.hi > range.lo ? range.hi - range.lo : 1.0};
+}
+
+void ExactSegmentShader::many(std::size_t n, const float* u_front, const float* u_back, const float* length,
+                              glm::vec4* out) const
+{
+    double sf[kMaxMany] = {}, sb[kMaxMany] = {}, len[kMaxMany] = {};
+    glm::dvec4 rgba[kMaxMany];
+    for (std::size_t i = 0; i < n; ++i) {
+        sf[i] = lo + double(u_front[i]) * span;
+        sb[i] = lo + double(u_back[i]) * span;
+        len[i] = double(length[i]);
+    }
+    integrator->integrate_many(n, sf, sb, len, rgba);
+    for (std::size_t i = 0; i < n; ++i) out[i] = glm::vec4(rgba[i]);
 }
 
 }  // namespace uvr::gpu

@@ -56,4 +56,22 @@ struct TableSegmentShader {
 };
 std::optional<TableSegmentShader> table_segment_shader(const PreintegrationTable* table, TextureFilter filter);
 
+// The exact integral (no table) as a plain callable; segment_shader returns the same calls. `many` gives n segments'
+// results at once, each the bits operator() gives it (SegmentIntegrator::integrate_many's lanes).
+struct ExactSegmentShader {
+    const SegmentIntegrator* integrator;
+    double lo, span;  // the normalized scalars' range: s = lo + u * span
+    glm::vec4 operator()(float u_front, float u_back, float /*t_z*/, float length) const
+    {
+        return glm::vec4(
+            integrator->integrate(lo + double(u_front) * span, lo + double(u_back) * span, double(length)));
+    }
+    // out[i] = operator()(u_front[i], u_back[i], -, length[i]) for i < n <= kMaxMany.
+    static constexpr std::size_t kMaxMany = 8;
+    void many(std::size_t n, const float* u_front, const float* u_back, const float* length, glm::vec4* out) const;
+};
+// The exact shader where there is no table; nullopt where segment_shader takes the table.
+std::optional<ExactSegmentShader> exact_segment_shader(const PreintegrationTable* table,
+                                                       const SegmentIntegrator& integrator, const Range& range);
+
 }  // namespace uvr::gpu

@@ -86,6 +86,7 @@ struct RaycastTextures {
     const ClassificationTable* classification = nullptr;
     SegmentShader segment;                      // pre-integration (table as llvmpipe samples it, or exact)
     std::optional<TableSegmentShader> table_segment;  // segment's usual path as a plain call, where it is one
+    std::optional<ExactSegmentShader> exact_segment;  // segment as a plain call where it is the exact integral
     LlvmpipeCpu cpu;
 };
 

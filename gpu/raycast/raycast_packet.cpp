@@ -225,6 +225,21 @@ __attribute__((target("avx2,fma"))) void march_table(const RaycastFrameConstants
     store_results(acc, taken, count, out);
 }
 
+// The segments of the m marching lanes of one step: out[i] for (u_front[i], u_back[i], length[i]); the exact
+// integral takes them together in its lanes, any other shader one by one.
+template <class Segment>
+void segments_of(const RaycastFrameConstants& fc, const Segment& segment, int m, const float* u_front,
+                 const float* u_back, const float* length, glm::vec4* out)
+{
+    for (int i = 0; i < m; ++i)
+        out[i] = segment(u_front[i], u_back[i], length[i] * fc.length_scale + fc.length_bias, length[i]);
+}
+void segments_of(const RaycastFrameConstants&, const ExactSegmentShader& segment, int m, const float* u_front,
+                 const float* u_back, const float* length, glm::vec4* out)
+{
+    segment.many(std::size_t(m), u_front, u_back, length, out);
+}
+
 // The pre-integrated march with any other segment (--segment exact): the volume's samples in the lanes, each lane's
 // segment and compositing on its own (raycast_march's, in its order: the samples of one ray never mix).
 template <class Volume, class Segment>
@@ -257,19 +272,29 @@ __attribute__((target("avx2,fma"))) void march_preintegrated(const RaycastFrameC
             gradient_of<Volume>(fc, tex, p, gv);
             for (int a = 0; a < 3; ++a) _mm256_store_ps(g[a], gv[a]);
         }
+        // The marching lanes' segments of positive length, all at once.
+        float u_front[8], u_back[8], length[8];
+        glm::vec4 c[8];
+        int m = 0;
         for (int l = 0; l < count; ++l) {
             if (!alive[l] || k > rays[l].samples) continue;
+            length[m] = k == rays[l].samples ? rays[l].last_length : fc.step_f;
+            if (!(length[m] > 0.0f)) continue;
+            u_front[m] = previous[l];
+            u_back[m++] = x[l];
+        }
+        segments_of(fc, segment, m, u_front, u_back, length, c);
+        for (int l = 0, i = 0; l < count; ++l) {
+            if (!alive[l] || k > rays[l].samples) continue;
             const bool is_last = k == rays[l].samples;
-            const float length = is_last ? rays[l].last_length : fc.step_f;
             ++out[l].samples;
-            if (length > 0.0f) {
-                const float t_z = length * fc.length_scale + fc.length_bias;
-                glm::vec4 c = segment(previous[l], x[l], t_z, length);
+            if ((is_last ? rays[l].last_length : fc.step_f) > 0.0f) {
+                glm::vec4 ci = c[i++];
                 if (fc.shade) {
                     const double t = is_last ? rays[l].length : double(k) * fc.step;
-                    c = raycast_lit(c, raycast_light(fc, rays[l], t, glm::vec3(g[0][l], g[1][l], g[2][l])));
+                    ci = raycast_lit(ci, raycast_light(fc, rays[l], t, glm::vec3(g[0][l], g[1][l], g[2][l])));
                 }
-                raycast_composite(out[l].colour, c);
+                raycast_composite(out[l].colour, ci);
             }
             previous[l] = x[l];
             if (out[l].colour.a > fc.threshold) alive[l] = false;
@@ -283,6 +308,7 @@ void march(const RaycastFrameConstants& fc, const RaycastRay* rays, int count, c
 {
     if (fc.preintegrate) {
         if (tex.table_segment) return march_table<Volume>(fc, rays, count, tex, tex.table_segment->view, out);
+        if (tex.exact_segment) return march_preintegrated<Volume>(fc, rays, count, tex, *tex.exact_segment, out);
         return march_preintegrated<Volume>(fc, rays, count, tex, tex.segment, out);
     }
     if (tex.cpu.fma) return march_classified<Volume, true>(fc, rays, count, tex, out);

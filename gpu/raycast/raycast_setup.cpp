@@ -170,6 +170,7 @@ RaycastTextures raycast_textures(const RaycastVolume& rv)
     if (rv.options().preintegrate) {
         t.segment = segment_shader(rv.table(), TextureFilter::linear, rv.integrator(), rv.table_range());
         t.table_segment = table_segment_shader(rv.table(), TextureFilter::linear);
+        t.exact_segment = exact_segment_shader(rv.table(), rv.integrator(), rv.table_range());
     }
     return t;
 }
