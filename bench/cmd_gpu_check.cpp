@@ -19,6 +19,7 @@
 #include "gpu/gl/gl_context.h"
 #include "gpu/havs/gl_havs.h"
 #include "reference/builtin_mesh.h"
+#include "reference/choice.h"
 #include "reference/error.h"
 #include "reference/error_measures.h"
 #include "reference/timing.h"
@@ -27,9 +28,14 @@ namespace uvr::cli {
 
 namespace {
 
+enum class GpuChoice { any, llvmpipe };
+inline constexpr Choices<GpuChoice, 2> kGpuChoices{
+    {{GpuChoice::any, "auto", "a hardware GPU through EGL, else llvmpipe"},
+     {GpuChoice::llvmpipe, "llvmpipe", "Mesa's llvmpipe through OSMesa"}}};
+
 struct GpuCheckOptions {
     InputOptions mesh;                        // the check's real mesh (Blunt Fin in the bundle)
-    std::string gpu = "auto";                 // auto | llvmpipe
+    std::string gpu = "auto";                 // kGpuChoices
     AlgoOptions table;                        // the options table's row --gl-device (with --gpu auto)
     std::string sizes = "512,1024";           // square images, each size a round of the check
     int grid = 120;                           // builtin:grid-N beside MESH (120: 10,368,000 tetrahedra); 0: none
@@ -48,14 +54,13 @@ struct CheckDevice {
     std::string choice;  // a sentence for the user
 };
 
-CheckDevice choose_device(const GpuCheckOptions& o)
+CheckDevice choose_device(const GpuCheckOptions& o, GpuChoice choice)
 {
     const auto osmesa = [](const std::string& why) {
         const gpu::GlContext ctx(gpu::GlPlatform::osmesa);
         return CheckDevice{"osmesa", gpu::kAnyEglDevice, ctx.info(), why + ": llvmpipe through OSMesa"};
     };
-    if (o.gpu == "llvmpipe") return osmesa("--gpu llvmpipe");
-    if (o.gpu != "auto") throw InputError("", "--gpu takes auto or llvmpipe, not '" + o.gpu + "'");
+    if (choice == GpuChoice::llvmpipe) return osmesa("--gpu llvmpipe");
     const int device = o.table.gl_device;
     std::string why;
     try {
@@ -173,10 +178,11 @@ void run_gpu_check(const GpuCheckOptions& c)
     if (sizes.empty()) throw InputError("", "--sizes needs at least one size");
     if (c.warmup < 0 || c.repeat < 1) throw InputError("", "--warmup takes 0 or more frames, --repeat 1 or more");
     if (c.grid < 0) throw InputError("", "--grid takes 0 (none) or the N of builtin:grid-N");
+    const GpuChoice gpu_choice = parse_choice("--gpu", kGpuChoices, c.gpu);
     std::error_code ec;
     std::filesystem::create_directories(c.out, ec);
     if (ec) throw InputError(c.out, "cannot create the directory: " + ec.message());
-    const CheckDevice d = choose_device(c);
+    const CheckDevice d = choose_device(c, gpu_choice);
     nlohmann::json j;
     j["renderer"] = d.info.summary();
     j["vendor"] = d.info.vendor;
@@ -216,8 +222,7 @@ void register_gpu_check(CLI::App& app)
                                    "reference and its speed, on the GPU or on llvmpipe");
     auto c = std::make_shared<GpuCheckOptions>();
     add_input_options(*cmd, c->mesh);
-    cmd->add_option("--gpu", c->gpu, "auto (a hardware GPU through EGL, else llvmpipe) | llvmpipe")
-        ->capture_default_str();
+    cmd->add_option("--gpu", c->gpu, choices_help(kGpuChoices))->capture_default_str();
     add_algo_options(*cmd, c->table, true, {"gl-device"});
     cmd->add_option("--sizes", c->sizes, "Square image sizes, comma-separated")->capture_default_str();
     cmd->add_option("--grid", c->grid, "builtin:grid-N beside the mesh (N^3 cubes of six tetrahedra; 0: none)")

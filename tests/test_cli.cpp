@@ -116,6 +116,14 @@ TEST_CASE("bad input makes uvr exit non-zero with a message naming the file, nev
             CHECK_THAT(r.err, Catch::Contains(path) && Catch::Contains("builtin:torus-N"));
         }
     }
+    SECTION("uvr gpu-check with a --gpu it does not know: refused before its directory is made")
+    {
+        uvr::test::TempDir tmp("gpu-check");
+        const CommandResult r = run_uvr("gpu-check builtin:torus-small --gpu nvidia --out '" + tmp.file("check") + "'");
+        CHECK(r.exit_code == 1);
+        CHECK_THAT(r.err, Catch::Contains("--gpu must be auto or llvmpipe, not 'nvidia'"));
+        CHECK_FALSE(std::filesystem::exists(tmp.file("check")));
+    }
     SECTION("--camera and --view together")
     {
         uvr::test::TempDir tmp("camview");
