@@ -23,6 +23,7 @@ namespace {
 struct VerifyArgs {
     SceneOptions scene;
     VerifyRequest request;
+    std::string refine;  // kRefinements' spelling, read into request.refine
     std::string images, h, reference;
     double expected = std::numeric_limits<double>::quiet_NaN();
     std::string report;
@@ -157,10 +158,7 @@ void register_verify(CLI::App& app)
     add_algo_options(*cmd, a->request.options);
     cmd->add_option("--algo", a->request.algo,
                     "The renderer: raycast, havs or vicp (and reference with --refine mesh)");
-    cmd->add_option("--refine", a->request.refine,
-                    "What is refined: step (the ray caster's sampling distance) | table (the pre-integration "
-                    "table's size n, h = 1/n) | mesh (builtin:grid-N, against its analytic field's integral) | size "
-                    "(the image's resolution, each pixel against the mean of its four children)");
+    cmd->add_option("--refine", a->refine, "What is refined: " + choices_help(kRefinements));
     cmd->add_option("--levels", a->request.levels, "Levels, each halving h")->capture_default_str();
     cmd->add_option("--from", a->request.from,
                     "The coarsest level: the step in world units (default twice the default "
@@ -181,7 +179,8 @@ void register_verify(CLI::App& app)
     cmd->callback([a] {
         if (a->images.empty() && a->scene.input.path.empty())
             throw InputError("", "uvr verify takes MESH (uvr renders the levels) or --images (an outside renderer's)");
-        if (!a->images.empty() && (!a->request.algo.empty() || !a->request.refine.empty()))
+        if (!a->refine.empty()) a->request.refine = parse_choice("--refine", kRefinements, a->refine);
+        if (!a->images.empty() && (!a->request.algo.empty() || a->request.refine))
             throw InputError("", "--images verifies images made elsewhere: --algo and --refine are for renders");
         if (a->images.empty() && (std::isfinite(a->expected) || !a->h.empty() || !a->reference.empty()))
             throw InputError("",

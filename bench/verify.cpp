@@ -64,9 +64,9 @@ struct Expectation {
     std::string derivation;
 };
 
-Expectation expected_order(const std::string& algo, const std::string& refine, const AlgoOptions& o)
+Expectation expected_order(const std::string& algo, Refinement refine, const AlgoOptions& o)
 {
-    if (refine == "step") {
+    if (refine == Refinement::step) {
         if (algo != "raycast")
             throw InputError("", "--refine step refines the ray caster's sampling distance (--algo raycast); " + algo +
                                      " has no step");
@@ -76,7 +76,7 @@ Expectation expected_order(const std::string& algo, const std::string& refine, c
                 "pre-integration takes the scalar linear between samples, an error of the second order in the "
                 "step (the trilinear field's curvature along the ray)"};
     }
-    if (refine == "table") {
+    if (refine == Refinement::table) {
         if (algo != "havs" && algo != "vicp" && algo != "raycast")
             throw InputError("", "--refine table refines HAVS's, VICP's or the pre-integrated ray caster's table; " +
                                      algo + " has none");
@@ -92,40 +92,38 @@ Expectation expected_order(const std::string& algo, const std::string& refine, c
                     "; scalars within half a texel of the range's ends read the end texel, a first-order "
                     "error there"};
     }
-    if (refine == "size")
+    if (refine == Refinement::size)
         return {0.5, 0.0,
                 "a pixel is its centre's ray, compared with the mean of its four children: O(h^2) where the image is "
                 "smooth, but a mesh's image has jumps at pixel scale (a boundary face seen edge-on ends a long path "
                 "abruptly; a field that jumps across a face): O(1) on the O(1/h) of the O(1/h^2) pixels along them, "
                 "RMSE O(h^(1/2)) and a largest error that need not fall"};
-    if (refine == "mesh")
-        return {2.0, 1.0,
-                "the mesh samples the analytic field at its points and interpolates it linearly in each tetrahedron: "
-                "an error of the second order in the cubes' edge for a smooth field"};
-    throw InputError("", "--refine takes step, table, mesh or size, found '" + refine + "'");
+    return {2.0, 1.0,
+            "the mesh samples the analytic field at its points and interpolates it linearly in each tetrahedron: "
+            "an error of the second order in the cubes' edge for a smooth field"};
 }
 
 // The options of each level: the user's, or with --isolate every other switch exact (uvr budget's baseline), and the
 // refined parameter at h.
 std::vector<AlgoOptions> level_options(const VerifyRequest& a, const Scene& s, const std::vector<double>& h)
 {
-    if (a.refine == "step" && a.options.step > 0.0)
+    if (a.refine == Refinement::step && a.options.step > 0.0)
         throw InputError("", "--refine step sets the step of each level: give the first with --from, not --step");
     AlgoOptions base = a.options;
     if (a.isolate) {
         if (a.algo == "raycast" && base.step <= 0.0) base.step = gpu::default_raycast_step(s.volume());
         base = budget_baseline(a.algo, base);
-        if (a.refine == "step") {
+        if (a.refine == Refinement::step) {
             base.preintegrate = a.options.preintegrate;
             if (!base.preintegrate) base.segment = a.options.segment;  // no segments to integrate exactly
         }
-        if (a.refine == "table") base.segment = "table";
+        if (a.refine == Refinement::table) base.segment = "table";
     }
     std::vector<AlgoOptions> out;
     for (double x : h) {
         AlgoOptions o = base;
-        if (a.refine == "step") o.step = x;
-        if (a.refine == "table") o.table_size = int(std::lround(1.0 / x));
+        if (a.refine == Refinement::step) o.step = x;
+        if (a.refine == Refinement::table) o.table_size = int(std::lround(1.0 / x));
         find_algorithm(a.algo).check_options(o);
         out.push_back(o);
     }
@@ -138,7 +136,7 @@ std::vector<AlgoOptions> level_options(const VerifyRequest& a, const Scene& s, c
 // one (docs/verification.md).
 std::vector<double> refinement(const VerifyRequest& a, const Scene& s)
 {
-    if (a.refine == "step") {
+    if (a.refine == Refinement::step) {
         const double from = a.from > 0.0             ? a.from
                             : a.options.preintegrate ? 0.5 * gpu::default_raycast_step(s.volume())
                                                      : 2.0 * gpu::default_raycast_step(s.volume());
@@ -194,6 +192,11 @@ void keep_scene(const VerifyRequest& a, const std::string& name, const Image& im
     write_file_atomically(a.images_dir + "/camera.json", camera_json(scene->camera) + "\n");
 }
 
+std::string refinement_name(const VerifyRequest& a)
+{
+    return a.refine ? std::string(choice_name(kRefinements, *a.refine)) : std::string();
+}
+
 void check_levels(const VerifyRequest& a)
 {
     if (a.levels < 3 || a.levels > 12) throw InputError("", "--levels takes 3 to 12 levels");
@@ -204,7 +207,7 @@ void describe(nlohmann::json& j, const VerifyRequest& a, const Expectation& ex)
 {
     j["mode"] = "render";
     j["algo"] = a.algo;
-    j["refine"] = a.refine;
+    j["refine"] = refinement_name(a);
     j["isolate"] = a.isolate;
     j["derivation"] = ex.derivation;
 }
@@ -319,10 +322,10 @@ nlohmann::json verify_refinement(const SceneOptions& scene, const VerifyRequest&
 {
     check_levels(a);
     if (a.algo.empty()) throw InputError("", "--algo names the renderer whose order is verified");
-    if (a.refine.empty()) throw InputError("", "--refine says what is refined: step, table, mesh or size");
-    const Expectation ex = expected_order(a.algo, a.refine, a.options);
+    if (!a.refine) throw InputError("", "--refine says what is refined: " + choice_names(kRefinements));
+    const Expectation ex = expected_order(a.algo, *a.refine, a.options);
     nlohmann::json j;
-    if (a.refine == "mesh") {
+    if (a.refine == Refinement::mesh) {
         j = mesh_levels(scene, a, ex);
     } else {
         Scene s = setup_scene(scene);
@@ -335,12 +338,13 @@ nlohmann::json verify_refinement(const SceneOptions& scene, const VerifyRequest&
 nlohmann::json verify_refinement(Scene& s, const VerifyRequest& a)
 {
     check_levels(a);
-    if (a.refine == "mesh")
+    if (a.refine == Refinement::mesh)
         throw InputError("",
                          "--refine mesh makes its own scenes, builtin:grid-N at each level: verify it from the "
                          "scene's options (uvr verify builtin:grid-N)");
-    const Expectation ex = expected_order(a.algo, a.refine, a.options);
-    if (a.refine == "size") return size_levels(s, a, ex);
+    if (!a.refine) throw InputError("", "--refine says what is refined: " + choice_names(kRefinements));
+    const Expectation ex = expected_order(a.algo, *a.refine, a.options);
+    if (a.refine == Refinement::size) return size_levels(s, a, ex);
     check_algorithm_scene(s, a.algo);
     const std::vector<double> h = refinement(a, s);
     const std::vector<AlgoOptions> opts = level_options(a, s, h);
@@ -351,10 +355,11 @@ nlohmann::json verify_refinement(Scene& s, const VerifyRequest& a)
         const AlgoResult r = run_algorithm(s, a.algo, opts[i]);
         e.push_back(measure_errors(r.image, ref));
         nlohmann::json l = {{"h", h[i]}, {"rmse", e.back().rmse}, {"max_abs", e.back().max_abs}, {"ms", r.ms}};
-        l[a.refine == "step" ? "step" : "table_size"] = a.refine == "step" ? opts[i].step : double(opts[i].table_size);
+        l[a.refine == Refinement::step ? "step" : "table_size"] =
+            a.refine == Refinement::step ? opts[i].step : double(opts[i].table_size);
         levels.push_back(l);
     }
-    nlohmann::json j = orders_json(h, e, ex.rmse, ex.max_abs, a.algo + " --refine " + a.refine);
+    nlohmann::json j = orders_json(h, e, ex.rmse, ex.max_abs, a.algo + " --refine " + refinement_name(a));
     j["levels"] = levels;
     describe(j, a, ex);
     return j;

@@ -2,6 +2,7 @@
 // refined, against the order the discretization promises, and the verdict.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,7 @@
 
 #include "bench/algorithms.h"
 #include "bench/scene.h"
+#include "reference/choice.h"
 
 namespace uvr::cli {
 
@@ -31,10 +33,19 @@ struct OrderStudy {
 OrderStudy observed_order(const std::vector<double>& h, const std::vector<double>& errors, double expected,
                           const std::string& what, std::size_t min_levels = 3);
 
-// What `uvr verify` renders: `algo` at `levels` refinements of `refine` (step | table | mesh | size) from `from` (0: the
-// default), with `options` as given or, with `isolate`, every other switch exact.
+// What a render verification refines.
+enum class Refinement { step, table, mesh, size };
+inline constexpr Choices<Refinement, 4> kRefinements{
+    {{Refinement::step, "step", "the ray caster's sampling distance"},
+     {Refinement::table, "table", "the pre-integration table's size n, h = 1/n"},
+     {Refinement::mesh, "mesh", "builtin:grid-N, against its analytic field's integral"},
+     {Refinement::size, "size", "the image's resolution, each pixel against the mean of its four children"}}};
+
+// What `uvr verify` renders: `algo` at `levels` refinements of `refine` from `from` (0: the default), with `options` as
+// given or, with `isolate`, every other switch exact.
 struct VerifyRequest {
-    std::string algo, refine;
+    std::string algo;
+    std::optional<Refinement> refine;
     int levels = 4;
     double from = 0.0;
     bool isolate = false;

@@ -468,17 +468,21 @@ void bind_measures(py::module_& m)
         "verify",
         [](PyScene& s, const std::string& algo, const std::string& refine, int levels, double from, bool isolate,
            const py::kwargs& kwargs) {
-            uvr::cli::VerifyRequest r{algo, refine, levels, from, isolate, algo_options(kwargs), ""};
-            if (refine == "mesh" && !s.options)
+            uvr::cli::VerifyRequest r{algo,    uvr::parse_choice("refine", uvr::cli::kRefinements, refine),
+                                      levels,  from,
+                                      isolate, algo_options(kwargs),
+                                      ""};
+            using uvr::cli::Refinement;
+            if (r.refine == Refinement::mesh && !s.options)
                 throw InputError("", "refine='mesh' refines builtin:grid-N: make the scene from that name");
             std::string text;
-            if (refine == "size") {
+            if (r.refine == Refinement::size) {
                 // The levels render the scene itself at larger sizes: no other Python thread may see it meanwhile.
                 text = uvr::cli::verify_refinement(*s.scene, r).dump();
             } else {
                 py::gil_scoped_release free_python;
-                text = (refine == "mesh" ? uvr::cli::verify_refinement(*s.options, r)
-                                         : uvr::cli::verify_refinement(*s.scene, r))
+                text = (r.refine == Refinement::mesh ? uvr::cli::verify_refinement(*s.options, r)
+                                                     : uvr::cli::verify_refinement(*s.scene, r))
                            .dump();
             }
             return json_value(text);
