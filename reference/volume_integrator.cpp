@@ -138,8 +138,6 @@ glm::dvec4 VolumeIntegrator::integrate_cell(const glm::dvec3& o, const glm::dvec
         const double x = (mid[a] - volume_.origin[a]) / volume_.spacing[a];
         c[a] = std::clamp<int64_t>(int64_t(std::floor(x)), 0, volume_.dims[std::size_t(a)] - 2);
     }
-    // The local coordinates along the piece, x_a(u) = x0[a] + u * dx[a] for u in [0, L], and the trilinear scalar as a
-    // cubic in u: the sum over the corners of v * prod_a (corner_a ? x_a : 1 - x_a).
     // Inside its cell the trilinear scalar lies between the corners' least and greatest: a cell where extinction is
     // zero over that range adds nothing (C = 0 and alpha = 0 exactly) and is not integrated.
     double corners[8];
@@ -147,6 +145,8 @@ glm::dvec4 VolumeIntegrator::integrate_cell(const glm::dvec3& o, const glm::dvec
         corners[corner] = sample(c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1));
     const auto [lo, hi] = std::minmax_element(corners, corners + 8);
     if (clear_between(*lo, *hi)) return glm::dvec4(0.0);
+    // The local coordinates along the piece, x_a(u) = x0[a] + u * dx[a] for u in [0, L], and the trilinear scalar as a
+    // cubic in u: the sum over the corners of v * prod_a (corner_a ? x_a : 1 - x_a).
     const double L = t1 - t0;
     double x0[3], dx[3];
     for (int a = 0; a < 3; ++a) {
