@@ -84,6 +84,25 @@ double crossing(const Cubic& p, double value, double a, double b)
     return 0.5 * (a + b);
 }
 
+// The trilinear scalar along a piece as a cubic in u, from the cell's corner values (corner bits x, y, z) and the
+// local coordinates x_a(u) = x0[a] + u * dx[a]: the sum over the corners of v * prod_a (corner_a ? x_a : 1 - x_a).
+Cubic trilinear_along(const double corners[8], const double x0[3], const double dx[3])
+{
+    Cubic s{0.0, 0.0, 0.0, 0.0};
+    for (int corner = 0; corner < 8; ++corner) {
+        Cubic p{corners[corner], 0.0, 0.0, 0.0};
+        for (int a = 0; a < 3; ++a) {
+            // Multiply by (alpha + beta u).
+            const bool high = (corner >> a) & 1;
+            const double alpha = high ? x0[a] : 1.0 - x0[a], beta = high ? dx[a] : -dx[a];
+            for (std::size_t deg = 3; deg > 0; --deg) p[deg] = alpha * p[deg] + beta * p[deg - 1];
+            p[0] *= alpha;
+        }
+        for (int deg = 0; deg < 4; ++deg) s[std::size_t(deg)] += p[std::size_t(deg)];
+    }
+    return s;
+}
+
 }  // namespace
 
 VolumeIntegrator::VolumeIntegrator(const Volume& volume, const TransferFunction& tf)
@@ -145,8 +164,7 @@ glm::dvec4 VolumeIntegrator::integrate_cell(const glm::dvec3& o, const glm::dvec
         corners[corner] = sample(c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1));
     const auto [lo, hi] = std::minmax_element(corners, corners + 8);
     if (clear_between(*lo, *hi)) return glm::dvec4(0.0);
-    // The local coordinates along the piece, x_a(u) = x0[a] + u * dx[a] for u in [0, L], and the trilinear scalar as a
-    // cubic in u: the sum over the corners of v * prod_a (corner_a ? x_a : 1 - x_a).
+    // The local coordinates along the piece, x_a(u) = x0[a] + u * dx[a] for u in [0, L].
     const double L = t1 - t0;
     double x0[3], dx[3];
     for (int a = 0; a < 3; ++a) {
@@ -154,80 +172,75 @@ glm::dvec4 VolumeIntegrator::integrate_cell(const glm::dvec3& o, const glm::dvec
         x0[a] = (o[a] + t0 * d[a] - lo) / volume_.spacing[a];
         dx[a] = d[a] / volume_.spacing[a];
     }
-    Cubic s{0.0, 0.0, 0.0, 0.0};
-    for (int corner = 0; corner < 8; ++corner) {
-        Cubic p{corners[corner], 0.0, 0.0, 0.0};
-        for (int a = 0; a < 3; ++a) {
-            // Multiply by (alpha + beta u).
-            const bool high = (corner >> a) & 1;
-            const double alpha = high ? x0[a] : 1.0 - x0[a], beta = high ? dx[a] : -dx[a];
-            for (std::size_t deg = 3; deg > 0; --deg) p[deg] = alpha * p[deg] + beta * p[deg - 1];
-            p[0] *= alpha;
-        }
-        for (int deg = 0; deg < 4; ++deg) s[std::size_t(deg)] += p[std::size_t(deg)];
-    }
-    // Split points: the cubic's critical points, then where it crosses a breakpoint of the transfer function.
+    const Cubic s = trilinear_along(corners, x0, dx);
     // The split points, in a buffer each thread keeps (integrate_cell runs once per cell a ray crosses).
     thread_local std::vector<double> cuts;
-    cuts.assign(1, 0.0);
-    {
-        const double qa = 3.0 * s[3], qb = 2.0 * s[2], qc = s[1];
-        const auto critical = [&](double u) {
-            if (u > 0.0 && u < L) cuts.push_back(u);
-        };
-        if (qa != 0.0) {
-            const double disc = qb * qb - 4.0 * qa * qc;
-            if (disc >= 0.0) {
-                const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
-                if (q != 0.0) critical(qc / q);
-                critical(q / qa);
-            }
-        } else if (qb != 0.0) {
-            critical(-qc / qb);
-        }
-        cuts.push_back(L);
-        std::sort(cuts.begin(), cuts.end());
-        const std::size_t monotone = cuts.size();
-        for (std::size_t m = 1; m < monotone; ++m) {
-            const double a = cuts[m - 1], b = cuts[m], sa = eval(s, a), sb = eval(s, b);
-            const double s_lo = std::min(sa, sb), s_hi = std::max(sa, sb);
-            for (auto br = std::upper_bound(breaks_.begin(), breaks_.end(), s_lo); br != breaks_.end() && *br < s_hi;
-                 ++br)
-                cuts.push_back(crossing(s, *br, a, b));
-        }
-        std::sort(cuts.begin(), cuts.end());
-    }
+    split_points(s, L, cuts);
     glm::dvec4 acc(0.0);
     for (std::size_t m = 1; m < cuts.size(); ++m) {
         const double ua = cuts[m - 1], ub = cuts[m];
-        if (!(ub > ua)) continue;
-        // Colour and extinction are linear in s on the transfer function's interval holding the piece; their
-        // coefficients come from values at its 1/3 and 2/3 points (never on a node, where a jump sits).
-        const double sm = eval(s, 0.5 * (ua + ub));
-        const auto above = std::upper_bound(breaks_.begin(), breaks_.end(), sm);
-        double s1 = sm, s2 = sm;
-        if (above != breaks_.begin() && above != breaks_.end()) {
-            const double lo = *(above - 1), hi = *above;
-            s1 = lo + (hi - lo) / 3.0;
-            s2 = lo + 2.0 * (hi - lo) / 3.0;
-        }
-        const double tau1 = tf_.tau_at(s1), dtau = s2 > s1 ? (tf_.tau_at(s2) - tau1) / (s2 - s1) : 0.0;
-        const glm::dvec3 c1 = tf_.color_at(s1), dc = s2 > s1 ? (tf_.color_at(s2) - c1) / (s2 - s1) : glm::dvec3(0.0);
-        // tau(u) = tau1 + dtau (s(u) - s1): a cubic; T(u) = its integral from ua, a quartic.
-        Cubic tau = s;
-        for (double& coef : tau) coef *= dtau;
-        tau[0] += tau1 - dtau * s1;
-        const double Ta = eval_integral(tau, ua);
-        const double depth = std::max(0.0, eval_integral(tau, ub) - Ta);
-        const auto emission = [&](double u) {
-            const double su = eval(s, u);
-            const double tu = std::max(0.0, eval(tau, u));
-            return (c1 + dc * (su - s1)) * (tu * std::exp(-std::max(0.0, eval_integral(tau, u) - Ta)));
-        };
-        const glm::dvec3 C = depth > 0.0 ? integrate_gk(emission, ua, ub, tol * (ub - ua) / L) : glm::dvec3(0.0);
-        acc = composite_over(acc, glm::dvec4(C, -std::expm1(-depth)));
+        if (ub > ua) acc = composite_over(acc, integrate_piece(s, ua, ub, tol * (ub - ua) / L));
     }
     return acc;
+}
+
+void VolumeIntegrator::split_points(const Cubic& s, double L, std::vector<double>& cuts) const
+{
+    // The cubic's critical points inside (0, L), then where it crosses a breakpoint of the transfer function.
+    cuts.assign(1, 0.0);
+    const double qa = 3.0 * s[3], qb = 2.0 * s[2], qc = s[1];
+    const auto critical = [&](double u) {
+        if (u > 0.0 && u < L) cuts.push_back(u);
+    };
+    if (qa != 0.0) {
+        const double disc = qb * qb - 4.0 * qa * qc;
+        if (disc >= 0.0) {
+            const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+            if (q != 0.0) critical(qc / q);
+            critical(q / qa);
+        }
+    } else if (qb != 0.0) {
+        critical(-qc / qb);
+    }
+    cuts.push_back(L);
+    std::sort(cuts.begin(), cuts.end());
+    const std::size_t monotone = cuts.size();
+    for (std::size_t m = 1; m < monotone; ++m) {
+        const double a = cuts[m - 1], b = cuts[m], sa = eval(s, a), sb = eval(s, b);
+        const double s_lo = std::min(sa, sb), s_hi = std::max(sa, sb);
+        for (auto br = std::upper_bound(breaks_.begin(), breaks_.end(), s_lo); br != breaks_.end() && *br < s_hi; ++br)
+            cuts.push_back(crossing(s, *br, a, b));
+    }
+    std::sort(cuts.begin(), cuts.end());
+}
+
+glm::dvec4 VolumeIntegrator::integrate_piece(const Cubic& s, double ua, double ub, double tol) const
+{
+    // Colour and extinction are linear in s on the transfer function's interval holding the piece; their
+    // coefficients come from values at its 1/3 and 2/3 points (never on a node, where a jump sits).
+    const double sm = eval(s, 0.5 * (ua + ub));
+    const auto above = std::upper_bound(breaks_.begin(), breaks_.end(), sm);
+    double s1 = sm, s2 = sm;
+    if (above != breaks_.begin() && above != breaks_.end()) {
+        const double lo = *(above - 1), hi = *above;
+        s1 = lo + (hi - lo) / 3.0;
+        s2 = lo + 2.0 * (hi - lo) / 3.0;
+    }
+    const double tau1 = tf_.tau_at(s1), dtau = s2 > s1 ? (tf_.tau_at(s2) - tau1) / (s2 - s1) : 0.0;
+    const glm::dvec3 c1 = tf_.color_at(s1), dc = s2 > s1 ? (tf_.color_at(s2) - c1) / (s2 - s1) : glm::dvec3(0.0);
+    // tau(u) = tau1 + dtau (s(u) - s1): a cubic; T(u) = its integral from ua, a quartic.
+    Cubic tau = s;
+    for (double& coef : tau) coef *= dtau;
+    tau[0] += tau1 - dtau * s1;
+    const double Ta = eval_integral(tau, ua);
+    const double depth = std::max(0.0, eval_integral(tau, ub) - Ta);
+    const auto emission = [&](double u) {
+        const double su = eval(s, u);
+        const double tu = std::max(0.0, eval(tau, u));
+        return (c1 + dc * (su - s1)) * (tu * std::exp(-std::max(0.0, eval_integral(tau, u) - Ta)));
+    };
+    const glm::dvec3 C = depth > 0.0 ? integrate_gk(emission, ua, ub, tol) : glm::dvec3(0.0);
+    return glm::dvec4(C, -std::expm1(-depth));
 }
 
 glm::dvec4 VolumeIntegrator::integrate(const Ray& ray, RayStats& stats) const

@@ -4,7 +4,9 @@
 // each piece's emission integral is adaptive Gauss-Kronrod quadrature. docs/reference.md, "Regular grids".
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <vector>
 
 #include <glm/vec4.hpp>
 
@@ -41,7 +43,13 @@ private:
     double sample(int64_t i, int64_t j, int64_t k) const;
     // Whether extinction is zero for every scalar in [lo, hi].
     bool clear_between(double lo, double hi) const;
+    // One cell's piece of the ray from t0 to t1, its emission integrals to `tol` together.
     glm::dvec4 integrate_cell(const glm::dvec3& o, const glm::dvec3& d, double t0, double t1, double tol) const;
+    using Cubic = std::array<double, 4>;  // in a piece's parameter u, lowest degree first
+    // 0, the cubic's critical points in (0, L), where it crosses the transfer function's breakpoints, and L, sorted.
+    void split_points(const Cubic& s, double L, std::vector<double>& cuts) const;
+    // The piece [ua, ub] of a cell on which s crosses no breakpoint: its emission (to `tol`) and opacity.
+    glm::dvec4 integrate_piece(const Cubic& s, double ua, double ub, double tol) const;
 };
 
 }  // namespace uvr
