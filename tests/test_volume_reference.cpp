@@ -126,6 +126,43 @@ TEST_CASE("a linear field on a grid gives the tetrahedral reference's integral o
     CHECK(worst <= kRayTolerance);
 }
 
+TEST_CASE(
+    "cells where extinction vanishes add nothing, and a cell whose ends are clear but not its inside is integrated")
+{
+    // The integrator skips a cell whose corners' range has zero extinction throughout. Here extinction is zero except
+    // on a narrow peak and a box with jumps, each narrower than one cell's range of the linear field (about 0.11):
+    // cells whose range holds the peak or the box between clear ends must be integrated, all others are clear. The
+    // tetrahedral reference on the same grid has no such shortcut.
+    const auto linear = [](const glm::dvec3& p) { return 0.5 + 0.0625 * p.x - 0.03125 * p.y + 0.046875 * p.z; };
+    const Volume v = grid({6, 5, 7}, {-1.0, 0.5, 2.0}, {0.75, 1.25, 0.5}, linear);
+    TransferFunction tf = ramp();
+    tf.extinction = {{0.0, 0.0},  {0.61, 0.0}, {0.62, 3.0}, {0.63, 0.0}, {0.75, 0.0},
+                     {0.75, 2.0}, {0.78, 2.0}, {0.78, 0.0}, {1.0, 0.0}};
+    const VolumeIntegrator vi(v, tf);
+    const TetMesh mesh = as_tetrahedra(v);
+    const MeshTopology topo = build_topology(mesh);
+    const RayIntegrator ri(mesh, topo, 0, tf);
+    double worst = 0.0, largest_alpha = 0.0;
+    std::size_t clear_rays = 0;
+    for (const auto& [az, el] : {std::pair{0.0, 0.0}, {30.0, 25.0}, {-75.0, -40.0}, {90.0, 0.0}}) {
+        const Camera cam = default_camera(vi.bounds(), 1.0, az, el);
+        for (int j = 0; j < 32; ++j)
+            for (int i = 0; i < 32; ++i) {
+                const Ray ray = camera_ray(cam, 32, 32, i, j);
+                RayStats s1, s2;
+                const glm::dvec4 a = vi.integrate(ray, s1), e = ri.integrate(ray, s2);
+                for (int c = 0; c < 4; ++c) worst = std::max(worst, std::fabs(a[c] - e[c]));
+                largest_alpha = std::max(largest_alpha, e.a);
+                clear_rays += s2.entries > 0 && e.a == 0.0 ? 1 : 0;
+            }
+    }
+    INFO("largest difference " << worst << ", largest alpha " << largest_alpha << ", rays through the grid left clear "
+                               << clear_rays);
+    CHECK(largest_alpha > 0.3);  // the peak and the box are in the picture
+    CHECK(clear_rays > 0);       // and rays that cross only clear cells
+    CHECK(worst <= kRayTolerance);
+}
+
 TEST_CASE("a trilinear field: the cubic along the ray integrates as quadrature of the definitions does")
 {
     // One cell with random corner values: along a ray the scalar is a true cubic. The oracle evaluates the trilinear
