@@ -216,9 +216,17 @@ TransferFunction default_volume_transfer_function(const std::vector<float>& valu
         const double away = s < band_lo ? band_lo - s : s - band_hi;
         return std::min(1.0, away / ramp);
     };
-    // The product of two piecewise-linear functions, sampled on 128 intervals and at the window's corners.
-    std::vector<double> at;
-    for (int i = 0; i <= 128; ++i) at.push_back(lo + d * i / 128.0);
+    // The product of two piecewise-linear functions: linear where the window is constant, so that its nodes there are
+    // the default's, the window's corners and the range's ends; on the window's ramps a quadratic, sampled where the
+    // range's kWindowSamples intervals meet. (A node between two collinear ones would change nothing but the cost:
+    // every node is a breakpoint that the reference and the exact segments split at.)
+    constexpr int kWindowSamples = 128;
+    const auto on_ramp = [&](double s) {
+        return (s > band_lo - ramp && s < band_lo) || (s > band_hi && s < band_hi + ramp);
+    };
+    std::vector<double> at{lo, lo + d * kWindowSamples / double(kWindowSamples)};
+    for (int i = 1; i < kWindowSamples; ++i)
+        if (const double s = lo + d * i / double(kWindowSamples); on_ramp(s)) at.push_back(s);
     for (double s : {band_lo - ramp, band_lo, band_hi, band_hi + ramp})
         if (s > lo && s < hi) at.push_back(s);
     for (const ExtinctionNode& n : tf.extinction) at.push_back(n.s);

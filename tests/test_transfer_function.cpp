@@ -152,6 +152,39 @@ TEST_CASE("the default transfer function of a regular grid is transparent around
     }
 }
 
+TEST_CASE("the default transfer function of a regular grid has a node only where its extinction bends")
+{
+    // Every node is a breakpoint the reference and the exact segments split at, so a node between two collinear ones
+    // costs time and changes nothing. Slopes of consecutive intervals are compared to 1e-9 of the larger: the nodes'
+    // values carry double rounding (1e-16), a kink of the default or of the window changes the slope by order one.
+    constexpr double kSameSlope = 1e-9;
+    const uvr::Range range{0.0, 100.0};
+    const double diagonal = 10.0;
+    const uvr::TransferFunction plain = uvr::default_transfer_function(range, diagonal);
+    for (const float background : {2.0f, 47.3f, 99.5f}) {
+        std::vector<float> values(9000, background);
+        for (int i = 0; i < 1000; ++i) values.push_back(float(i % 100));
+        const uvr::TransferFunction tf = uvr::default_volume_transfer_function(values, range, diagonal);
+        const auto& n = tf.extinction;
+        std::size_t collinear = 0;
+        for (std::size_t i = 1; i + 1 < n.size(); ++i) {
+            if (!(n[i - 1].s < n[i].s && n[i].s < n[i + 1].s)) continue;  // a jump's two nodes
+            const double before = (n[i].tau - n[i - 1].tau) / (n[i].s - n[i - 1].s);
+            const double after = (n[i + 1].tau - n[i].tau) / (n[i + 1].s - n[i].s);
+            if (std::abs(before - after) <= kSameSlope * std::max(std::abs(before), std::abs(after))) ++collinear;
+        }
+        INFO("background " << background << ": " << n.size() << " nodes, " << collinear << " between collinear ones");
+        CHECK(collinear == 0);
+        // Away from the window's ramps the extinction is the default's times the boost, between the nodes too.
+        const double boost = tf.tau_at(30.0) / plain.tau_at(30.0);
+        for (double s = 0.0; s <= 100.0; s += 0.25)
+            if (std::abs(s - background) > 5.0) {
+                INFO("s = " << s);
+                CHECK(tf.tau_at(s) == Approx(plain.tau_at(s) * boost).epsilon(1e-12));
+            }
+    }
+}
+
 TEST_CASE("a colour preset (--tf preset:NAME) puts a ParaView colour map on the default extinction, by either name")
 {
     const uvr::Range range{-1.0, 3.0};
