@@ -117,45 +117,52 @@ std::optional<nlohmann::json> finished_budget(const std::string& dir, const std:
 
 }  // namespace
 
-std::vector<BudgetFactor> budget_factors(const std::string& algo, const AlgoOptions& user)
+namespace {
+
+// The switches of the factors every algorithm has, set on a run (the baseline's options) to the user's values.
+void set_table(AlgoOptions& run, const AlgoOptions& user)
 {
-    // Each factor's switch, applied to the baseline's options from the user's; the three every algorithm has.
-    const auto table = [](AlgoOptions& run, const AlgoOptions& user) {
-        run.segment = user.segment;
-        run.table_size = user.table_size;
-        run.table_format = user.table_format;
-    };
-    const auto interpolation = [](AlgoOptions& run, const AlgoOptions& user) {
-        run.interpolation = user.interpolation;
-    };
-    const auto termination = [](AlgoOptions& run, const AlgoOptions& user) { run.threshold = user.threshold; };
+    run.segment = user.segment;
+    run.table_size = user.table_size;
+    run.table_format = user.table_format;
+}
+void set_interpolation(AlgoOptions& run, const AlgoOptions& user)
+{
+    run.interpolation = user.interpolation;
+}
+void set_threshold(AlgoOptions& run, const AlgoOptions& user)
+{
+    run.threshold = user.threshold;
+}
+
+std::vector<BudgetFactor> raycast_factors()
+{
+    return {
+        {"step", "the step: the ray samples the volume every step and takes the scalar as linear between two samples",
+         [](AlgoOptions& run, const AlgoOptions& user) { run.step = user.step; }},
+        {"table",
+         "the classification: post-classified samples (each step's colour from the transfer function at one "
+         "sample) or the pre-integrated table, instead of each segment between two samples integrated exactly",
+         [](AlgoOptions& run, const AlgoOptions& user) {
+             set_table(run, user);
+             run.preintegrate = user.preintegrate;
+         }},
+        {"texture",
+         "the volume's texture: texels kept in the data's own format and filtered as the GPU filters that format "
+         "(8-bit data with 8-bit weights on llvmpipe) instead of as float",
+         [](AlgoOptions& run, const AlgoOptions& user) { run.volume_format = user.volume_format; }},
+        {"interpolation",
+         "the published passes: each ray's entry and exit from the box's faces as the rasterizer interpolates "
+         "their texture coordinates, instead of the ray against the box in double",
+         set_interpolation},
+        {"termination", "early termination: the march stops once the opacity passes the threshold", set_threshold}};
+}
+
+// HAVS's and VICP's: the sort, the table, the rasterizer's interpolation and coverage, sort-last's parts where the
+// user asks for them, and early termination.
+std::vector<BudgetFactor> projection_factors(const std::string& algo, const AlgoOptions& user)
+{
     std::vector<BudgetFactor> f;
-    if (algo == "raycast") {
-        f.push_back({"step",
-                     "the step: the ray samples the volume every step and takes the scalar as linear between "
-                     "two samples",
-                     [](AlgoOptions& run, const AlgoOptions& user) { run.step = user.step; }});
-        f.push_back({"table",
-                     "the classification: post-classified samples (each step's colour from the "
-                     "transfer function at one sample) or the pre-integrated table, instead of each segment "
-                     "between two samples integrated exactly",
-                     [table](AlgoOptions& run, const AlgoOptions& user) {
-                         table(run, user);
-                         run.preintegrate = user.preintegrate;
-                     }});
-        f.push_back({"texture",
-                     "the volume's texture: texels kept in the data's own format and filtered as the GPU "
-                     "filters that format (8-bit data with 8-bit weights on llvmpipe) instead of as float",
-                     [](AlgoOptions& run, const AlgoOptions& user) { run.volume_format = user.volume_format; }});
-        f.push_back({"interpolation",
-                     "the published passes: each ray's entry and exit from the box's faces as the "
-                     "rasterizer interpolates their texture coordinates, instead of the ray against "
-                     "the box in double",
-                     interpolation});
-        f.push_back(
-            {"termination", "early termination: the march stops once the opacity passes the threshold", termination});
-        return f;
-    }
     if (algo == "havs")
         f.push_back({"sort",
                      "the k-buffer of k entries: fragments the object-space face sort leaves more than k - 1 "
@@ -173,12 +180,12 @@ std::vector<BudgetFactor> budget_factors(const std::string& algo, const AlgoOpti
     f.push_back({"table",
                  "the pre-integrated table: the segment's colour looked up, filtered, from a table of finite "
                  "size instead of integrated exactly",
-                 table});
+                 set_table});
     f.push_back({"interpolation",
                  "the rasterizer's interpolation: the fragment's values from the published interpolated "
                  "varyings (float, perspective-correct) instead of computed in double from the pixel's "
                  "ray",
-                 interpolation});
+                 set_interpolation});
     f.push_back({"coverage",
                  "the rasterizer's coverage: pixels chosen by the snapped (fixed-point) triangle instead of "
                  "by the ray through the pixel centre crossing the primitive",
@@ -192,8 +199,15 @@ std::vector<BudgetFactor> budget_factors(const std::string& algo, const AlgoOpti
                          run.partition = u.partition;
                      }});
     f.push_back({"termination", "early termination: a pixel stops compositing once its opacity passes the threshold",
-                 termination});
+                 set_threshold});
     return f;
+}
+
+}  // namespace
+
+std::vector<BudgetFactor> budget_factors(const std::string& algo, const AlgoOptions& user)
+{
+    return algo == "raycast" ? raycast_factors() : projection_factors(algo, user);
 }
 
 AlgoOptions budget_baseline(const std::string& algo, const AlgoOptions& user)
