@@ -310,6 +310,19 @@ nlohmann::json rendered_run(const Scene& s, const std::string& algo, const std::
     return j;
 }
 
+// Whether the ray caster's early termination at `threshold` would stop no ray of the baseline's march: its run is then
+// the baseline's, bit for bit. The march stops a ray once its opacity passes the threshold (alpha > threshold, in
+// float as the march compares), and a ray's opacity never falls as it composites, so a ray whose final opacity does
+// not pass it never stopped.
+bool terminates_no_ray(const std::string& dir, const nlohmann::json& baseline, double threshold)
+{
+    const Image b = read_npy(dir + "/" + baseline.at("image").get<std::string>());
+    const float t = float(threshold);  // the march's own (RaycastOptions::threshold)
+    for (std::size_t p = 3; p < b.rgba.size(); p += 4)
+        if (b.rgba[p] > t) return false;
+    return true;
+}
+
 // The baseline's check, budget.json, the chart and the page.
 void finish_budget(const std::string& algo, const std::string& dir, nlohmann::json& out)
 {
@@ -372,6 +385,12 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
         nlohmann::json j;
         if (const auto same = rendered.runs.find(key); same != rendered.runs.end()) {
             j = copied_run(dir, r, same->second.first, same->second.second);
+        } else if (algo == "raycast" && r.name == "termination" &&
+                   terminates_no_ray(dir, out["baseline"], r.o.threshold)) {
+            j = copied_run(dir, r, dir + "/runs/baseline", out["baseline"]);
+            j["switches"] = switches_json(algo, r.o);
+            j["same_because"] = "no ray of the baseline passes the threshold, so early termination stops none";
+            rendered.runs[key] = {dir + "/runs/" + r.name, j};
         } else {
             j = rendered_run(s, algo, dir, r, ref.image);
             rendered.runs[key] = {dir + "/runs/" + r.name, j};

@@ -199,7 +199,24 @@ TEST_CASE("the ray caster's budget: a baseline at a sixteenth of the step, and e
         CHECK(f["step"]["rmse"].get<double>() > b["baseline"]["rmse"].get<double>());
         for (const auto& [name, run] : f.items()) require_measures_of_images(dir, run);
         require_measures_of_images(dir, b["total"]);
+        // No ray of either baseline reaches 0.95 (their largest opacities are 0.80 and 0.87): the termination run is
+        // the baseline's, not rendered again, and is what the run itself renders, bit for bit.
+        CHECK(f["termination"]["same_as"] == "baseline");
+        const std::string own = tmp.file("termination.npy");
+        const CommandResult r = run_uvr("render '" + uvr::test::data_path(volume) +
+                                        "' --size 64x64 --algo raycast --step 0.03125 --preintegrate --segment exact "
+                                        "--volume-format f32 --interpolation exact --threshold 0.95 --out '" +
+                                        own + "'");
+        REQUIRE(r.exit_code == 0);
+        CHECK(uvr::read_npy(own).rgba == uvr::read_npy(dir + "/runs/termination.npy").rgba);
     }
+    // A threshold some rays pass: the termination run is rendered, and differs from the baseline.
+    const std::string dir = tmp.file("stopping");
+    const nlohmann::json b = budget(
+        "'" + uvr::test::data_path("vtk-data/neghip.slc") + "' --size 64x64 --algo raycast --step 0.5 --threshold 0.5",
+        dir);
+    CHECK_FALSE(b["factors"]["termination"].contains("same_as"));
+    CHECK(b["factors"]["termination"]["rmse"] != b["baseline"]["rmse"]);
     unsetenv("UVR_CACHE_DIR");
 }
 
