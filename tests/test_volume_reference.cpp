@@ -51,6 +51,38 @@ TransferFunction ramp()
     return tf;
 }
 
+// A linear field on a 6x5x7 grid of unequal spacing, integrated by the grid reference and by the tetrahedral reference
+// on the same samples split into tetrahedra, ray by ray from four views at 32x32: their largest difference, the
+// largest opacity, and the rays that meet the grid yet stay clear. Dyadic coefficients and coordinates, so that every
+// sample is exact in the volume's float storage and the samples stay exactly linear.
+struct LinearGridAgreement {
+    double worst = 0.0, largest_alpha = 0.0;
+    std::size_t clear_rays = 0;
+};
+LinearGridAgreement against_tetrahedra(const TransferFunction& tf)
+{
+    const auto linear = [](const glm::dvec3& p) { return 0.5 + 0.0625 * p.x - 0.03125 * p.y + 0.046875 * p.z; };
+    const Volume v = grid({6, 5, 7}, {-1.0, 0.5, 2.0}, {0.75, 1.25, 0.5}, linear);
+    const VolumeIntegrator vi(v, tf);
+    const TetMesh mesh = as_tetrahedra(v);
+    const MeshTopology topo = build_topology(mesh);
+    const RayIntegrator ri(mesh, topo, 0, tf);
+    LinearGridAgreement r;
+    for (const auto& [az, el] : {std::pair{0.0, 0.0}, {30.0, 25.0}, {-75.0, -40.0}, {90.0, 0.0}}) {
+        const Camera cam = default_camera(vi.bounds(), 1.0, az, el);
+        for (int j = 0; j < 32; ++j)
+            for (int i = 0; i < 32; ++i) {
+                const Ray ray = camera_ray(cam, 32, 32, i, j);
+                RayStats s1, s2;
+                const glm::dvec4 a = vi.integrate(ray, s1), e = ri.integrate(ray, s2);
+                for (int c = 0; c < 4; ++c) r.worst = std::max(r.worst, std::fabs(a[c] - e[c]));
+                r.largest_alpha = std::max(r.largest_alpha, e.a);
+                r.clear_rays += s2.entries > 0 && e.a == 0.0 ? 1 : 0;
+            }
+    }
+    return r;
+}
+
 }  // namespace
 
 TEST_CASE("a constant volume gives Beer-Lambert's closed form, from outside and from a camera inside")
@@ -99,31 +131,10 @@ TEST_CASE("a linear field on a grid gives the tetrahedral reference's integral o
 {
     // Trilinear interpolation of a linear field is that field, and so is the tetrahedra's linear interpolation: the
     // two references must agree ray by ray, through a transfer function with kinks and a jump.
-    // Dyadic coefficients and coordinates, so that every sample is exact in the volume's float storage and the
-    // samples stay exactly linear.
-    const auto linear = [](const glm::dvec3& p) { return 0.5 + 0.0625 * p.x - 0.03125 * p.y + 0.046875 * p.z; };
-    const Volume v = grid({6, 5, 7}, {-1.0, 0.5, 2.0}, {0.75, 1.25, 0.5}, linear);
-    const TransferFunction tf = ramp();
-    const VolumeIntegrator vi(v, tf);
-    const TetMesh mesh = as_tetrahedra(v);
-    const MeshTopology topo = build_topology(mesh);
-    const RayIntegrator ri(mesh, topo, 0, tf);
-    const Bounds b = vi.bounds();
-    double worst = 0.0, largest_alpha = 0.0;
-    for (const auto& [az, el] : {std::pair{0.0, 0.0}, {30.0, 25.0}, {-75.0, -40.0}, {90.0, 0.0}}) {
-        const Camera cam = default_camera(b, 1.0, az, el);
-        for (int j = 0; j < 32; ++j)
-            for (int i = 0; i < 32; ++i) {
-                const Ray ray = camera_ray(cam, 32, 32, i, j);
-                RayStats s1, s2;
-                const glm::dvec4 a = vi.integrate(ray, s1), e = ri.integrate(ray, s2);
-                for (int c = 0; c < 4; ++c) worst = std::max(worst, std::fabs(a[c] - e[c]));
-                largest_alpha = std::max(largest_alpha, e.a);
-            }
-    }
-    INFO("largest difference " << worst << ", largest alpha " << largest_alpha);
-    CHECK(largest_alpha > 0.5);
-    CHECK(worst <= kRayTolerance);
+    const LinearGridAgreement r = against_tetrahedra(ramp());
+    INFO("largest difference " << r.worst << ", largest alpha " << r.largest_alpha);
+    CHECK(r.largest_alpha > 0.5);
+    CHECK(r.worst <= kRayTolerance);
 }
 
 TEST_CASE(
@@ -133,34 +144,15 @@ TEST_CASE(
     // on a narrow peak and a box with jumps, each narrower than one cell's range of the linear field (about 0.11):
     // cells whose range holds the peak or the box between clear ends must be integrated, all others are clear. The
     // tetrahedral reference on the same grid has no such shortcut.
-    const auto linear = [](const glm::dvec3& p) { return 0.5 + 0.0625 * p.x - 0.03125 * p.y + 0.046875 * p.z; };
-    const Volume v = grid({6, 5, 7}, {-1.0, 0.5, 2.0}, {0.75, 1.25, 0.5}, linear);
     TransferFunction tf = ramp();
     tf.extinction = {{0.0, 0.0},  {0.61, 0.0}, {0.62, 3.0}, {0.63, 0.0}, {0.75, 0.0},
                      {0.75, 2.0}, {0.78, 2.0}, {0.78, 0.0}, {1.0, 0.0}};
-    const VolumeIntegrator vi(v, tf);
-    const TetMesh mesh = as_tetrahedra(v);
-    const MeshTopology topo = build_topology(mesh);
-    const RayIntegrator ri(mesh, topo, 0, tf);
-    double worst = 0.0, largest_alpha = 0.0;
-    std::size_t clear_rays = 0;
-    for (const auto& [az, el] : {std::pair{0.0, 0.0}, {30.0, 25.0}, {-75.0, -40.0}, {90.0, 0.0}}) {
-        const Camera cam = default_camera(vi.bounds(), 1.0, az, el);
-        for (int j = 0; j < 32; ++j)
-            for (int i = 0; i < 32; ++i) {
-                const Ray ray = camera_ray(cam, 32, 32, i, j);
-                RayStats s1, s2;
-                const glm::dvec4 a = vi.integrate(ray, s1), e = ri.integrate(ray, s2);
-                for (int c = 0; c < 4; ++c) worst = std::max(worst, std::fabs(a[c] - e[c]));
-                largest_alpha = std::max(largest_alpha, e.a);
-                clear_rays += s2.entries > 0 && e.a == 0.0 ? 1 : 0;
-            }
-    }
-    INFO("largest difference " << worst << ", largest alpha " << largest_alpha << ", rays through the grid left clear "
-                               << clear_rays);
-    CHECK(largest_alpha > 0.3);  // the peak and the box are in the picture
-    CHECK(clear_rays > 0);       // and rays that cross only clear cells
-    CHECK(worst <= kRayTolerance);
+    const LinearGridAgreement r = against_tetrahedra(tf);
+    INFO("largest difference " << r.worst << ", largest alpha " << r.largest_alpha
+                               << ", rays through the grid left clear " << r.clear_rays);
+    CHECK(r.largest_alpha > 0.3);  // the peak and the box are in the picture
+    CHECK(r.clear_rays > 0);       // and rays that cross only clear cells
+    CHECK(r.worst <= kRayTolerance);
 }
 
 TEST_CASE("a trilinear field: the cubic along the ray integrates as quadrature of the definitions does")

@@ -272,26 +272,29 @@ __attribute__((target("avx2,fma"))) void march_preintegrated(const RaycastFrameC
             gradient_of<Volume>(fc, tex, p, gv);
             for (int a = 0; a < 3; ++a) _mm256_store_ps(g[a], gv[a]);
         }
-        // The marching lanes' segments of positive length, all at once.
+        // The marching lanes' segments of positive length, all at once; `at[l]`: lane l's in c, -1 where it has none,
+        // -2 where the lane does not march.
         float u_front[8], u_back[8], length[8];
         glm::vec4 c[8];
-        int m = 0;
+        int at[8], m = 0;
         for (int l = 0; l < count; ++l) {
+            at[l] = -2;
             if (!alive[l] || k > rays[l].samples) continue;
             length[m] = k == rays[l].samples ? rays[l].last_length : fc.step_f;
+            at[l] = -1;
             if (!(length[m] > 0.0f)) continue;
             u_front[m] = previous[l];
-            u_back[m++] = x[l];
+            u_back[m] = x[l];
+            at[l] = m++;
         }
         segments_of(fc, segment, m, u_front, u_back, length, c);
-        for (int l = 0, i = 0; l < count; ++l) {
-            if (!alive[l] || k > rays[l].samples) continue;
-            const bool is_last = k == rays[l].samples;
+        for (int l = 0; l < count; ++l) {
+            if (at[l] == -2) continue;
             ++out[l].samples;
-            if ((is_last ? rays[l].last_length : fc.step_f) > 0.0f) {
-                glm::vec4 ci = c[i++];
+            if (at[l] >= 0) {
+                glm::vec4 ci = c[at[l]];
                 if (fc.shade) {
-                    const double t = is_last ? rays[l].length : double(k) * fc.step;
+                    const double t = k == rays[l].samples ? rays[l].length : double(k) * fc.step;
                     ci = raycast_lit(ci, raycast_light(fc, rays[l], t, glm::vec3(g[0][l], g[1][l], g[2][l])));
                 }
                 raycast_composite(out[l].colour, ci);
