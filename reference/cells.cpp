@@ -164,11 +164,32 @@ void add_cell_fields(const UnstructuredCells& cells, const std::vector<uint32_t>
 
 }  // namespace
 
+namespace {
+
+// How many tetrahedra the split below makes of a cell of this type: the cone from one corner over the faces that do not
+// hold it (a hexahedron's three quadrilaterals, a wedge's quadrilateral and triangle, a pyramid's two faces).
+std::size_t tetrahedra_of_type(int type)
+{
+    switch (type) {
+    case kVtkTetra: return 1;
+    case kVtkVoxel:
+    case kVtkHexahedron: return 6;
+    case kVtkWedge: return 3;
+    case kVtkPyramid: return 2;
+    default: return 0;  // not rendered, or refused by the split
+    }
+}
+
+}  // namespace
+
 TetMesh tetrahedralize_cells(const UnstructuredCells& cells, std::vector<std::string>& warnings)
 {
     const std::string& file = cells.source;
     const std::size_t n = cells.types.size();
     check_cell_arrays(cells);
+    std::size_t tet_count = 0;
+    for (int type : cells.types) tet_count += tetrahedra_of_type(type);
+    check_tetrahedron_count(file, tet_count);
     TetMesh mesh;
     mesh.source = file;
     mesh.points = cells.points;
@@ -215,6 +236,28 @@ TetMesh tetrahedralize_cells(const UnstructuredCells& cells, std::vector<std::st
     return mesh;
 }
 
+namespace {
+
+// The cells of a structured grid that no blanked point touches (each is split into five tetrahedra).
+std::size_t unblanked_cells(const StructuredGrid& grid)
+{
+    const int64_t ni = grid.dims[0], nj = grid.dims[1], nk = grid.dims[2];
+    const auto point = [&](int64_t i, int64_t j, int64_t k) { return std::size_t(i + ni * (j + nj * k)); };
+    if (grid.iblank.empty()) return std::size_t(ni - 1) * std::size_t(nj - 1) * std::size_t(nk - 1);
+    std::size_t n = 0;
+    for (int64_t k = 0; k + 1 < nk; ++k)
+        for (int64_t j = 0; j + 1 < nj; ++j)
+            for (int64_t i = 0; i + 1 < ni; ++i) {
+                bool blanked = false;
+                for (int v = 0; v < 8 && !blanked; ++v)
+                    blanked = grid.iblank[point(i + (v & 1), j + (v >> 1 & 1), k + (v >> 2 & 1))] == 0;
+                n += blanked ? 0 : 1;
+            }
+    return n;
+}
+
+}  // namespace
+
 TetMesh tetrahedralize_structured(const StructuredGrid& grid)
 {
     const std::string& file = grid.source;
@@ -230,6 +273,7 @@ TetMesh tetrahedralize_structured(const StructuredGrid& grid)
         throw InputError(file, "iblank holds " + std::to_string(grid.iblank.size()) + " values, expected " +
                                    std::to_string(np));
     if (np > UINT32_MAX) throw InputError(file, "grid has more than 2^32 points");
+    check_tetrahedron_count(file, 5 * unblanked_cells(grid));
     TetMesh mesh;
     mesh.source = file;
     mesh.points = grid.points;

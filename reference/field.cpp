@@ -52,7 +52,7 @@ TetMesh per_cell_vertex_mesh(const TetMesh& mesh, std::size_t field)
 {
     const ScalarField& f = mesh.fields.at(field);
     if (mesh.tets.size() > UINT32_MAX / 4)
-        throw InputError(mesh.source, "more than 2^30 tetrahedra: a field drawn per cell needs four points of its own "
+        throw InputError(mesh.source, "2^30 tetrahedra or more: a field drawn per cell needs four points of its own "
                                       "for each, and point indices are 32-bit");
     TetMesh out;
     out.source = mesh.source;

@@ -59,10 +59,19 @@ std::size_t count_degenerate(const TetMesh& mesh)
     return n;
 }
 
+void check_tetrahedron_count(const std::string& source, std::size_t count)
+{
+    if (count >= kMaxTetrahedra)
+        throw InputError(source, std::to_string(count) + " tetrahedra: uvr takes fewer than 2^29 (" +
+                                     std::to_string(kMaxTetrahedra) +
+                                     "), since the reference walk packs a tetrahedron's index into 29 bits");
+}
+
 std::size_t finalize_mesh(TetMesh& mesh, DegenerateCells degenerate)
 {
     const std::string& file = mesh.source;
     if (mesh.tets.empty()) throw InputError(file, "the mesh has no tetrahedron");
+    check_tetrahedron_count(file, mesh.tets.size());
     const std::size_t np = mesh.points.size();
     for (std::size_t i = 0; i < np; ++i) {
         const glm::dvec3& p = mesh.points[i];

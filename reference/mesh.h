@@ -45,6 +45,15 @@ struct TetMesh {
     std::vector<ScalarField> fields;
 };
 
+// A mesh holds fewer than kMaxTetrahedra tetrahedra: the reference walk packs a neighbour as (tetrahedron << 3) |
+// jump << 2 | face into 32 bits (reference/ray_integrator.h), and index 2^29 - 1 with the jump bit and face 3 would be
+// the no-neighbour value 0xFFFFFFFF, so 2^29 itself is refused too.
+inline constexpr std::size_t kMaxTetrahedra = std::size_t(1) << 29;
+
+// Throws InputError naming `source` when `count` tetrahedra would reach kMaxTetrahedra. Readers call it with the count
+// a header or the cells imply, before allocating the tetrahedra.
+void check_tetrahedron_count(const std::string& source, std::size_t count);
+
 // Six times the signed volume of tetrahedron (a, b, c, d): positive when d lies on the side of plane (a, b, c) that
 // (b-a)x(c-a) points to.
 double signed_volume6(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d);

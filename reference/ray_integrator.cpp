@@ -106,6 +106,7 @@ RayIntegrator::RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std:
     : mesh_(mesh), topo_(topo), field_(mesh.fields.at(field)), segment_(tf), embree_(std::make_unique<Embree>()),
       bounds_(mesh_bounds(mesh))
 {
+    check_tetrahedron_count(mesh.source, mesh.tets.size());  // before any array of the walk is allocated
     values_.resize(mesh.tets.size());
     for (std::size_t t = 0; t < mesh.tets.size(); ++t) values_[t] = tet_values(mesh, field_, t);
     walk_tets_ = mesh.tets.data();
@@ -118,8 +119,6 @@ RayIntegrator::RayIntegrator(const TetMesh& mesh, const MeshTopology& topo, std:
         walk_tets_ = canonical_tets_.data();
     }
 
-    if (mesh.tets.size() >= (std::size_t(1) << 29))
-        throw InputError(mesh.source, "more than 2^29 tetrahedra: the walk packs tetrahedron indices into 29 bits");
     // Whether the field jumps across a face is decided here, once, so that a continuous field costs the walk nothing.
     const std::vector<uint8_t> jump = field_jump_faces(mesh, topo, field_);
     next_.assign(mesh.tets.size(),

@@ -86,6 +86,7 @@ void read_ele(const std::string& path, int64_t base, TetMesh& mesh)
     if (corners == 10) sc.fail("10-node (quadratic) tetrahedra are not supported; write linear 4-node tetrahedra");
     if (corners != 4) sc.fail("nodes per tetrahedron must be 4, found " + std::to_string(corners));
     int64_t regions = header_value(sc, "region attribute flag", 0, 1);
+    if (count > 0) check_tetrahedron_count(path, static_cast<std::size_t>(count));
     check_count_fits(sc, count, 5 + regions, text.size(), "tetrahedra");
 
     const int64_t points = static_cast<int64_t>(mesh.points.size());

@@ -470,7 +470,7 @@ TEST_CASE("no GL context: --backend gl fails with a clear error and writes nothi
     CHECK(!std::filesystem::exists(out));
 }
 
-TEST_CASE("uvr render --algo reference renders a regular grid; what needs a mesh refuses one before writing")
+TEST_CASE("uvr render --algo reference renders a regular grid, and what needs a mesh refuses one before writing")
 {
     TempDir tmp("cli-volume");
     const std::string volume = "'" + data_path("vtk-data/hydrogen.vti") + "' --size 48x40 ";

@@ -172,7 +172,7 @@ TEST_CASE("far from the origin: HAVS on coordinates at 1e8 with features at 1e-3
     CHECK(e.max_abs <= kConvergenceMax);
 }
 
-TEST_CASE("exact gaps do not apply the maximum-gap rule; --gaps maxgap does")
+TEST_CASE("exact gaps do not apply the maximum-gap rule, --gaps maxgap does")
 {
     // docs/spec.md §6 compares the exact gaps with VTK's heuristic: exact gaps must not drop a segment for its length.
     const Scene s = make_scene(load_builtin("builtin:torus-small"), 0);

@@ -360,7 +360,7 @@ TEST_CASE("the paper's ARB fragment program on special values: differences only 
     model.report("the ARB program as NIR's fmin/fmax rewrite predicts it (every case)");
 }
 
-TEST_CASE("uvr render --backend arb writes the paper's frame and reports its entries; misuse is refused")
+TEST_CASE("uvr render --backend arb writes the paper's frame and reports its entries, and refuses misuse")
 {
     using test::run_uvr;
     test::TempDir tmp("arb");

@@ -98,3 +98,10 @@ TEST_CASE("find_field picks by name, by index, and lists the fields when neither
     m.fields.clear();
     require_input_error([&] { find_field(m, ""); }, {"unit.vtk", "no scalar field"});
 }
+
+TEST_CASE("a mesh holds fewer than 2^29 tetrahedra: 2^29 - 1 passes the count check, 2^29 is refused")
+{
+    CHECK_NOTHROW(check_tetrahedron_count("big.ele", (std::size_t(1) << 29) - 1));
+    require_input_error([] { check_tetrahedron_count("big.ele", std::size_t(1) << 29); },
+                        {"big.ele", "536870912 tetrahedra", "fewer than 2^29"});
+}

@@ -149,6 +149,16 @@ TEST_CASE("TetGen reader rejects broken files with the file and line named")
         Files f = write_tetgen(tmp, kCubeNode1, replace_line(kCubeEle1, 1, "7 4 0"));
         require_input_error([&] { read_tetgen(f.node); }, {f.ele + ":", "declares 7 tetrahedra", "ends after 6"});
     }
+    SECTION(".ele claims as many tetrahedra as the walk cannot index: refused before they are allocated")
+    {
+        // 2^29 is the first count refused (reference/mesh.h); the file holds six, so a reader that allocated by the
+        // header first would need 8 GiB before its message, and one that checked the file's length first would say
+        // "far too small", as it does one below the limit.
+        Files f = write_tetgen(tmp, kCubeNode1, replace_line(kCubeEle1, 1, "536870912 4 0"));
+        require_input_error([&] { read_tetgen(f.node); }, {f.ele + ":", "536870912 tetrahedra", "fewer than 2^29"});
+        Files g = write_tetgen(tmp, kCubeNode1, replace_line(kCubeEle1, 1, "536870911 4 0"));
+        require_input_error([&] { read_tetgen(g.node); }, {g.ele + ":", "far too small"});
+    }
     SECTION("point numbers out of sequence")
     {
         Files f = write_tetgen(tmp, replace_line(kCubeNode1, 4, "4 1 1 0"), kCubeEle1);
@@ -204,10 +214,10 @@ TEST_CASE("TetGen reader rejects broken files with the file and line named")
         Files f = write_tetgen(tmp, replace_line(kCubeNode1, 1, "1000000000000 3 0 0"), kCubeEle1);
         require_input_error([&] { read_tetgen(f.node); }, {f.node + ":1:", "claims 1000000000000 points"});
     }
-    SECTION("a header claiming 10^12 tetrahedra fails at once")
+    SECTION("a header claiming 10^12 tetrahedra fails at once, at the limit of the walk")
     {
         Files f = write_tetgen(tmp, kCubeNode1, replace_line(kCubeEle1, 1, "1000000000000 4 0"));
-        require_input_error([&] { read_tetgen(f.node); }, {f.ele + ":1:", "claims 1000000000000 tetrahedra"});
+        require_input_error([&] { read_tetgen(f.node); }, {f.ele + ":", "1000000000000 tetrahedra", "fewer than 2^29"});
     }
 }
 
