@@ -13,21 +13,22 @@
 
 namespace uvr::cli {
 
-// The ray caster's baseline step: the user's divided by this. Its march is first order (docs/raycast.md), so the
-// baseline keeps about 1/16 of the step's error; the budget reports it and checks it stays below the step factor's
-// (kBudgetStepBaselineShare).
-inline constexpr double kBudgetStepRefinement = 16.0;
-inline constexpr double kBudgetStepBaselineShare = 0.25;
 // How far the baseline may differ from the reference (largest channel error) and still count as equal to float32
 // precision: with every switch exact HAVS and VICP leave at most 9e-7 on the hardest views measured
 // (tests/test_exact_coverage.cpp, docs/havs.md "Convergence on many views"), whose bar this is.
 inline constexpr double kBudgetBaselineMax = 2e-6;
 
-// One cause of error: its name (docs/spec.md §7's key), what it is (a sentence for the page), and how its run differs
-// from the baseline: `apply` sets the one switch of `run` (the baseline's options) to the user's value.
+// What a factor's run is measured against (docs/spec.md §7): the reference, or, for a marching algorithm's factors
+// other than the step, the `step` run (every switch exact at the user's step), whose error is the march's own.
+enum class BudgetAgainst { reference, step };
+
+// One cause of error: its name (docs/spec.md §7's key), what it is (a sentence for the page), how its run differs
+// from the baseline (`apply` sets the one switch of `run`, the baseline's options, to the user's value), and what it
+// is measured against.
 struct BudgetFactor {
     std::string name, what;
     std::function<void(AlgoOptions& run, const AlgoOptions& user)> apply;
+    BudgetAgainst against = BudgetAgainst::reference;
 };
 // `algo`'s factors; `partition` only where the user asks for parts (--parts N > 1).
 std::vector<BudgetFactor> budget_factors(const std::string& algo, const AlgoOptions& user);

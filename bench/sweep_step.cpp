@@ -139,7 +139,8 @@ nlohmann::json run_step_sweep(Scene& s, const AlgoOptions& o, std::vector<double
     html += "</table>\n";
     if (!out["budget_rows"].empty()) {
         html += "<h2>The error budget against the step</h2><p>At every step, the ray caster with every switch exact "
-                "(a sixteenth of the step), then with one cause at a time set back (uvr budget).</p>"
+                "at that step against the reference, then with one cause at a time set back, against that run (uvr "
+                "budget).</p>"
                 "<table border=1 cellpadding=4><tr><th>view<th>step<th>largest cause<th>its RMSE<th>total RMSE<th>budget";
         for (const auto& r : out["budget_rows"]) {
             char row[256];

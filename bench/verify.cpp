@@ -118,6 +118,7 @@ std::vector<AlgoOptions> level_options(const VerifyRequest& a, const Scene& s, c
             if (!base.preintegrate) base.segment = a.options.segment;  // no segments to integrate exactly
         }
         if (a.refine == Refinement::table) base.segment = "table";
+        if (a.refine == Refinement::table && a.algo == "raycast") base.step /= kTableRefinementStepDivisor;
     }
     std::vector<AlgoOptions> out;
     for (double x : h) {

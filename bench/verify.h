@@ -18,6 +18,9 @@ namespace uvr::cli {
 // passes). Sized from uvr's own refinements (docs/verification.md, "The verdict"): the isolated ones reach RMSE
 // orders of 1.86 to 2.42 where 2 is derived, and the stalled ones fall short by more than 1.
 inline constexpr double kOrderTolerance = 0.25;
+// The ray caster's table refinement with --isolate marches at the step divided by this, so that the march's own error
+// (first or second order in the step, docs/verification.md) stays below the table's at the sizes refined.
+inline constexpr double kTableRefinementStepDivisor = 16.0;
 
 // The orders of one error measure over the levels.
 struct OrderStudy {

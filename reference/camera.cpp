@@ -36,17 +36,19 @@ CameraRays::CameraRays(const Camera& cam, int width, int height)
       fr_(camera_frame(cam)),
       width_(width),
       height_(height),
-      aspect_(double(width) / double(height)),
       half_(cam.orthographic ? 0.5 * cam.ortho_height : std::tan(0.5 * radians(cam.fovy_deg)))
 {
 }
 
 Ray CameraRays::operator()(double i, double j) const
 {
-    const double x = 2.0 * (i + 0.5) / width_ - 1.0;
-    const double y = 1.0 - 2.0 * (j + 0.5) / height_;
-    if (cam_.orthographic) return {cam_.eye + x * half_ * aspect_ * fr_.r + y * half_ * fr_.u, fr_.f};
-    return {cam_.eye, glm::normalize(fr_.f + x * half_ * aspect_ * fr_.r + y * half_ * fr_.u)};
+    // The pixel centre's offsets from the image's centre, in units of half_ at the image plane: x * half * aspect with
+    // x = 2 (i + 0.5) / width - 1, written as (2 i + 1 - width) * half / height so that the integer numerator is exact
+    // and an offset the grid of pixel centres meets exactly (a face's plane on an axis-aligned view) is exact too.
+    const double x = (2.0 * i + 1.0 - double(width_)) * half_ / double(height_);
+    const double y = (double(height_) - 2.0 * j - 1.0) * half_ / double(height_);
+    if (cam_.orthographic) return {cam_.eye + x * fr_.r + y * fr_.u, fr_.f, fr_.r, fr_.u, false};
+    return {cam_.eye, glm::normalize(fr_.f + x * fr_.r + y * fr_.u), fr_.r, fr_.u, true};
 }
 
 PixelRect pixels_covering(const Camera& cam, int width, int height, const Bounds& b)

@@ -21,6 +21,12 @@ struct Camera {
 struct Ray {
     glm::dvec3 origin;
     glm::dvec3 dir;  // unit length; distances along the ray are world units from origin
+    // Which way the ray moves when its pixel moves right (dx) or up (dy) in the window: the origin's way for an
+    // orthographic camera, the direction's for a perspective one (`turns`); zero for a ray no pixel made. A ray in a
+    // face's plane, along an edge or through a vertex is decided as the ray of the pixel moved by (-e, -e^2), e -> 0+
+    // (docs/spec.md §7, "Rays on faces, edges and vertices").
+    glm::dvec3 pixel_dx{0.0}, pixel_dy{0.0};
+    bool turns = false;
 };
 
 // The orthonormal frame of docs/spec.md §2: f = normalize(target - eye), r = normalize(f x up), u = r x f.
@@ -42,7 +48,7 @@ private:
     Camera cam_;
     CameraFrame fr_;
     int width_, height_;
-    double aspect_, half_;  // half the image's height at unit distance (perspective) or in world units
+    double half_;  // half the image's height at unit distance (perspective) or in world units
 };
 
 // The pixels whose rays (camera_ray) can meet the box b: columns [x0, x1), rows [y0, y1), possibly empty. The whole

@@ -21,8 +21,8 @@ namespace uvr {
 
 // Bump when the reference integrator's results change, so old entries are not reused: the tetrahedral walk's, and
 // the regular grids' (reference/volume_integrator.h).
-inline constexpr const char* kReferenceCacheVersion = "uvr-reference-5";
-inline constexpr const char* kVolumeReferenceCacheVersion = "uvr-volume-reference-1";
+inline constexpr const char* kReferenceCacheVersion = "uvr-reference-6";
+inline constexpr const char* kVolumeReferenceCacheVersion = "uvr-volume-reference-2";
 
 class Fnv1a {
 public:

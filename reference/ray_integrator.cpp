@@ -5,6 +5,7 @@
 #include <limits>
 
 #include <embree3/rtcore.h>
+#include <glm/vec2.hpp>
 #include <emmintrin.h>
 #include <glm/geometric.hpp>
 
@@ -43,10 +44,13 @@ struct RayIntegrator::Embree {
 
 namespace {
 
+}  // namespace
+
 // The boundary faces one ray has entered or left through: most rays use a few, so they are held in place, and only a
 // ray through many gaps allocates.
-class UsedFaces {
+class RayIntegrator::UsedFaces {
 public:
+    bool empty() const { return n_ == 0; }
     void push_back(int32_t face)
     {
         if (n_ < kInPlace)
@@ -70,6 +74,8 @@ private:
     std::size_t n_ = 0;
 };
 
+namespace {
+
 // The intersect context carries what the filter needs to accept only faces the ray really enters next.
 struct EntryContext {
     RTCIntersectContext base;  // first member: Embree hands the filter a pointer to it
@@ -78,7 +84,7 @@ struct EntryContext {
     const std::vector<int32_t>* face_of_prim;
     glm::dvec3 origin, dir;
     double t_min, slack;
-    const UsedFaces* used;  // boundary faces this ray already entered or left through
+    const RayIntegrator::UsedFaces* used;  // boundary faces this ray already entered or left through
 };
 
 void entry_filter(const RTCFilterFunctionNArguments* args)
@@ -197,18 +203,6 @@ struct RayIntegrator::Seen {
     // p -> q. Rounding gives fl(a - b) = -fl(b - a), so an edge has one value, negated with its direction, whichever
     // tetrahedron asks: the walk cannot slip between two cells round an edge.
     static double side(const Seen& p, const Seen& q) { return p.u * q.v - p.v * q.u; }
-
-    // Whether the ray passes left of p -> q, where `e` = side(p, q). An exact zero (the ray through the edge's line)
-    // is decided as if the ray were moved by (eps, eps^2) in the plane (simulation of simplicity): by p.v - q.v, then
-    // by q.u - p.u; two points on one line of sight (an edge along the ray) by their canonical indices. Every decision
-    // is antisymmetric in p and q, so a tie is broken the same way in every tetrahedron round the edge.
-    static bool passes_left(const Seen& p, const Seen& q, double e)
-    {
-        if (e != 0.0) return e > 0.0;
-        if (p.v != q.v) return p.v > q.v;
-        if (p.u != q.u) return q.u > p.u;
-        return p.id < q.id;
-    }
 };
 
 // The ray's shear (Woop, Benthin and Wald, "Watertight Ray/Triangle Intersection", JCGT 2013): with kz the axis along
@@ -219,8 +213,13 @@ struct RayIntegrator::Shear {
     glm::dvec3 origin;
     int kx, ky, kz;
     double sx, sy, inv_dz;
+    // The pixel's motions right and up (Ray::pixel_dx, pixel_dy) seen in the plane; `turns`: they move the direction,
+    // about the point at ray parameter `pivot` (the eye, where the ray was started behind it).
+    glm::dvec2 mx{0.0}, my{0.0};
+    bool turns = false, pixel = false;
+    double pivot = 0.0;
 
-    explicit Shear(const Ray& ray) : origin(ray.origin)
+    explicit Shear(const Ray& ray, double pivot_t = 0.0) : origin(ray.origin), turns(ray.turns), pivot(pivot_t)
     {
         const glm::dvec3 a = glm::abs(ray.dir);
         kz = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
@@ -229,12 +228,44 @@ struct RayIntegrator::Shear {
         inv_dz = 1.0 / ray.dir[kz];
         sx = -ray.dir[kx] * inv_dz;
         sy = -ray.dir[ky] * inv_dz;
+        mx = plane(ray.pixel_dx);
+        my = plane(ray.pixel_dy);
+        pixel = mx != glm::dvec2(0.0) || my != glm::dvec2(0.0);
     }
+
+    glm::dvec2 plane(const glm::dvec3& q) const { return {q[kx] + sx * q[kz], q[ky] + sy * q[kz]}; }
 
     Seen see(const glm::dvec3& p, uint32_t id, double s, int local) const
     {
         const glm::dvec3 q = p - origin;
         return {q[kx] + sx * q[kz], q[ky] + sy * q[kz], q[kz] * inv_dz, s, id, local};
+    }
+
+    // How side(p, q) changes when the ray moves by m in the plane (or, turning, by m per unit of the ray parameter):
+    // (m_q x p) - (m_p x q), m_p the motion at p's depth. Antisymmetric in p and q, bit for bit.
+    double side_change(const glm::dvec2& m, const Seen& p, const Seen& q) const
+    {
+        const glm::dvec2 mp = turns ? (p.z - pivot) * m : m, mq = turns ? (q.z - pivot) * m : m;
+        return (mq.x * p.v - mq.y * p.u) - (mp.x * q.v - mp.y * q.u);
+    }
+
+    // Whether the ray passes left of p -> q, where `e` = side(p, q). An exact zero (the ray through the edge's line)
+    // is decided as if the ray were moved (simulation of simplicity): for a pixel's ray, as the pixel moved by
+    // (-e, -e^2) in the window, the fill rule of HAVS's and VICP's exact coverage (docs/spec.md §7); for a ray no pixel
+    // made, by (e, e^2) in the plane. Two points on one line of sight (an edge along the ray) by their canonical
+    // indices. Every decision is antisymmetric in p and q, so a tie is broken the same way in every tetrahedron round
+    // the edge.
+    bool passes_left(const Seen& p, const Seen& q, double e) const
+    {
+        if (e != 0.0) return e > 0.0;
+        if (pixel) {
+            if (const double cx = -side_change(mx, p, q); cx != 0.0) return cx > 0.0;
+            if (const double cy = -side_change(my, p, q); cy != 0.0) return cy > 0.0;
+        } else {
+            if (p.v != q.v) return p.v > q.v;
+            if (p.u != q.u) return q.u > p.u;
+        }
+        return p.id < q.id;
     }
 };
 
@@ -273,9 +304,36 @@ bool RayIntegrator::composite_step(double t_in, double t1, double s_in, double s
     return count_zero_step(t_in, t1, zero_steps);
 }
 
+namespace {
+// A turn round an edge passes each cell that shares the edge once; a mesh's edges are shared by a few tens at most.
+constexpr int kMaxEdgeTurn = 256;
+// Boundary faces met one after another on the edges and vertex a ray passes through before it enters one: a fan round
+// a vertex has a few tens.
+constexpr int kMaxTieHops = 64;
+}  // namespace
+
+int32_t RayIntegrator::boundary_face_across(int32_t face, uint32_t p, uint32_t q) const
+{
+    int32_t t = topo_.faces[std::size_t(face)].tet[0], through = face;
+    for (int step = 0; step < kMaxEdgeTurn; ++step) {
+        const std::array<int32_t, 4>& faces = topo_.tet_faces[std::size_t(t)];
+        const Tet& tv = walk_tets_[std::size_t(t)];
+        int r = -1;  // the third point of the face turned through: the next face is the one opposite it
+        for (int i = 0; i < 4; ++i)
+            if (faces[i] != through && tv[i] != p && tv[i] != q) r = i;
+        if (r < 0) return -1;
+        const int32_t next = topo_.neighbor[std::size_t(t)][r];
+        if (next < 0) return faces[r];
+        through = faces[r];
+        t = next;
+    }
+    return -1;
+}
+
 template <class OnStep>
 int32_t RayIntegrator::walk(const Ray& ray, const Shear& sh, int32_t face, double t_in, double t_clip, glm::dvec4& acc,
-                            double& t_out, RayStats& stats, OnStep on_step) const
+                            double& t_out, RayStats& stats, OnStep on_step, bool strict,
+                            std::array<uint32_t, 2>& tie) const
 {
     const uint32_t tet = uint32_t(topo_.faces[std::size_t(face)].tet[0]);
     int entry_local = 0;
@@ -292,14 +350,24 @@ int32_t RayIntegrator::walk(const Ray& ray, const Shear& sh, int32_t face, doubl
         e[2] = Seen::side(f[2], f[0]);
     }
     const double w = e[0] + e[1] + e[2];
-    // Embree decides the entry in float: a ray within its rounding of the face's edge may pass just outside the face
-    // by the walk's tests. Such a run is walked by the faces' planes, which need no inside.
-    if (w > 0.0 && Seen::passes_left(f[0], f[1], e[0]) && Seen::passes_left(f[1], f[2], e[1]) &&
-        Seen::passes_left(f[2], f[0], e[2])) {
+    const bool left[3] = {sh.passes_left(f[0], f[1], e[0]), sh.passes_left(f[1], f[2], e[1]),
+                          sh.passes_left(f[2], f[0], e[2])};
+    if (w > 0.0 && left[0] && left[1] && left[2]) {
         // The ray's point on the face by its barycentric weights, each the side of the edge opposite its vertex.
         const double s_in = (e[1] * f[0].s + e[2] * f[1].s + e[0] * f[2].s) / w;
         return walk_seen(sh, tet, f, e, t_in, s_in, t_clip, acc, t_out, stats, on_step);
     }
+    // The ray meets the face on an edge or a vertex, and the tie-break hands it to the face beyond (another boundary
+    // face, which the caller looks for next, or none: the ray passes the mesh by).
+    tie = {kNoNeighbor, kNoNeighbor};
+    if (w > 0.0 && (left[0] || e[0] == 0.0) && (left[1] || e[1] == 0.0) && (left[2] || e[2] == 0.0)) {
+        const int i = !left[0] ? 0 : !left[1] ? 1 : 2;
+        tie = {f[i].id, f[(i + 1) % 3].id};
+        return kPassesBy;
+    }
+    if (strict) return kPassesBy;
+    // Embree decides the entry in float: a ray within its rounding of the face's edge may pass just outside the face
+    // by the walk's tests. Such a run is walked by the faces' planes, which need no inside.
     ++stats.plane_walks;
     return walk_planes(ray, tet, entry_local, t_in, t_clip, acc, t_out, stats, on_step);
 }
@@ -355,8 +423,8 @@ int32_t RayIntegrator::walk_seen(const Shear& sh, uint32_t tet, Seen f[3], doubl
     for (;;) {
         const Seen d = sh.see(mesh_.points[id], id, values_[tet][ld], ld);
         const double ed[3] = {Seen::side(f[0], d), Seen::side(f[1], d), Seen::side(f[2], d)};
-        const bool left[3] = {Seen::passes_left(f[0], d, ed[0]), Seen::passes_left(f[1], d, ed[1]),
-                              Seen::passes_left(f[2], d, ed[2])};
+        const bool left[3] = {sh.passes_left(f[0], d, ed[0]), sh.passes_left(f[1], d, ed[1]),
+                              sh.passes_left(f[2], d, ed[2])};
         const int i = !left[0] && left[1] ? 0 : !left[1] && left[2] ? 1 : 2;
         const int j = i == 2 ? 0 : i + 1, k = j == 2 ? 0 : j + 1;  // f[k] is the vertex the exit face leaves out
         // Barycentric weights of the ray's point on the exit face (f[i], f[j], d), all >= 0.
@@ -505,52 +573,31 @@ glm::dvec4 RayIntegrator::trace(const Ray& in, RayStats& stats, std::vector<RayR
     const bool inside_bounds = in.origin.x >= bb.lo.x && in.origin.y >= bb.lo.y && in.origin.z >= bb.lo.z &&
                                in.origin.x <= bb.hi.x && in.origin.y <= bb.hi.y && in.origin.z <= bb.hi.z;
     const double back = inside_bounds ? glm::length(in.origin - bb.center()) + glm::length(bb.extent()) : 0.0;
-    const Ray ray{in.origin - back * in.dir, in.dir};
+    Ray ray = in;
+    ray.origin = in.origin - back * in.dir;
     glm::dvec4 acc(0.0);
     UsedFaces used;
     double t_min = 0.0;
     const glm::dvec3 o = ray.origin - E.shift;
-    const Shear shear(ray);
+    const Shear shear(ray, back);
+    bool nudged = false;  // the one query for a ray that grazes the mesh's silhouette has been made
     for (;;) {
-        EntryContext ctx;
-        rtcInitIntersectContext(&ctx.base);
-        ctx.base.filter = entry_filter;
-        ctx.mesh = &mesh_;
-        ctx.topo = &topo_;
-        ctx.face_of_prim = &E.face_of_prim;
-        ctx.origin = ray.origin;
-        ctx.dir = ray.dir;
-        ctx.t_min = t_min;
-        ctx.slack = E.slack;
-        ctx.used = &used;
-        RTCRayHit rh;
-        rh.ray.org_x = float(o.x);
-        rh.ray.org_y = float(o.y);
-        rh.ray.org_z = float(o.z);
-        rh.ray.dir_x = float(ray.dir.x);
-        rh.ray.dir_y = float(ray.dir.y);
-        rh.ray.dir_z = float(ray.dir.z);
-        // Embree's float distances may be off by some float ulps of the distances involved: start the search early by
-        // far more than that (1e-5 relative; float carries 6e-8) and let the filter decide in double.
-        rh.ray.tnear = float(std::max(0.0, t_min - 1e-5 * (E.scale + t_min + glm::length(o))));
-        rh.ray.tfar = std::numeric_limits<float>::infinity();
-        rh.ray.mask = 0xFFFFFFFFu;
-        rh.ray.flags = 0;
-        rh.ray.time = 0.0f;
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(E.scene, &ctx.base, &rh);
-        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) break;
-        const int32_t face = E.face_of_prim[rh.hit.primID];
-        // The filter may have accepted several candidates on the way; Embree returns the nearest in float, and its
-        // parameter is recomputed in double here.
-        const Face& f = topo_.faces[std::size_t(face)];
-        const glm::dvec3 n = face_normal(mesh_, f.v);
-        const double t_in = std::max(t_min, glm::dot(n, mesh_.points[f.v[0]] - ray.origin) / glm::dot(n, ray.dir));
-        used.push_back(face);
-        ++stats.entries;
-        double t_out = t_in;
+        int32_t face = next_entry(ray, o, ray.dir, t_min, used);
+        bool strict = false;
+        if (face < 0 && used.empty() && shear.pixel && !nudged) {
+            // Embree may report no face of an edge the ray runs along on the silhouette (a ray in a boundary face's
+            // plane): ask again with the ray moved by a few float ulps the way the tie-break moves it; what that
+            // query finds is entered only if the exact ray passes through it by the walk's own tests.
+            nudged = strict = true;
+            face = nudged_entry(ray, o, t_min, used);
+        }
+        if (face < 0) break;
+        double t_in = 0.0, t_out = 0.0;
         glm::dvec4 run(0.0);
-        const int32_t left = walk(ray, shear, face, t_in, back, runs ? run : acc, t_out, stats, on_step);
+        const int32_t left = enter(ray, shear, face, t_min, back, strict, used, runs ? run : acc, t_in, t_out, stats,
+                                   on_step);
+        if (left == kPassesBy) continue;  // not entered here: look again from the same place, these faces left out
+        ++stats.entries;
         // A run's own opacity hides what lies behind it on this ray as the whole accumulator's does.
         const double alpha = runs ? run.a : acc.a;
         if (runs && t_out > back) runs->push_back({std::max(t_in, back) - back, t_out - back, run});
@@ -559,6 +606,81 @@ glm::dvec4 RayIntegrator::trace(const Ray& in, RayStats& stats, std::vector<RayR
         t_min = t_out;
     }
     return acc;
+}
+
+int32_t RayIntegrator::next_entry(const Ray& ray, const glm::dvec3& o, const glm::dvec3& dir, double t_min,
+                                  const UsedFaces& used) const
+{
+    const Embree& E = *embree_;
+    EntryContext ctx;
+    rtcInitIntersectContext(&ctx.base);
+    ctx.base.filter = entry_filter;
+    ctx.mesh = &mesh_;
+    ctx.topo = &topo_;
+    ctx.face_of_prim = &E.face_of_prim;
+    ctx.origin = ray.origin;
+    ctx.dir = ray.dir;
+    ctx.t_min = t_min;
+    ctx.slack = E.slack;
+    ctx.used = &used;
+    RTCRayHit rh;
+    rh.ray.org_x = float(o.x);
+    rh.ray.org_y = float(o.y);
+    rh.ray.org_z = float(o.z);
+    rh.ray.dir_x = float(dir.x);
+    rh.ray.dir_y = float(dir.y);
+    rh.ray.dir_z = float(dir.z);
+    // Embree's float distances may be off by some float ulps of the distances involved: start the search early by
+    // far more than that (1e-5 relative; float carries 6e-8) and let the filter decide in double.
+    rh.ray.tnear = float(std::max(0.0, t_min - 1e-5 * (E.scale + t_min + glm::length(o))));
+    rh.ray.tfar = std::numeric_limits<float>::infinity();
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.flags = 0;
+    rh.ray.time = 0.0f;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(E.scene, &ctx.base, &rh);
+    return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? -1 : E.face_of_prim[rh.hit.primID];
+}
+
+int32_t RayIntegrator::nudged_entry(const Ray& ray, const glm::dvec3& o, double t_min, const UsedFaces& used) const
+{
+    // kNudgeUlps float ulps of the origin's size (orthographic) or of a unit direction (perspective), so that Embree's
+    // own rounding (a few ulps) cannot undo the move; the second direction by a sixteenth of that, as the tie-break's
+    // e^2 stands behind its e.
+    constexpr double kNudgeUlps = 64.0;
+    const double ulp = double(std::numeric_limits<float>::epsilon());
+    const glm::dvec3 move = -(ray.pixel_dx + ray.pixel_dy / 16.0);
+    if (ray.turns) return next_entry(ray, o, ray.dir + kNudgeUlps * ulp * move, t_min, used);
+    const double size = embree_->scale + glm::length(o);
+    return next_entry(ray, o + kNudgeUlps * ulp * size * move, ray.dir, t_min, used);
+}
+
+template <class OnStep>
+int32_t RayIntegrator::enter(const Ray& ray, const Shear& shear, int32_t face, double t_min, double back, bool strict,
+                             UsedFaces& used, glm::dvec4& acc, double& t_in, double& t_out, RayStats& stats,
+                             OnStep on_step) const
+{
+    // Embree returns the nearest face in float; its parameter is recomputed in double here.
+    const auto entry_t = [&](int32_t fi) {
+        const Face& f = topo_.faces[std::size_t(fi)];
+        const glm::dvec3 n = face_normal(mesh_, f.v);
+        return std::max(t_min, glm::dot(n, mesh_.points[f.v[0]] - ray.origin) / glm::dot(n, ray.dir));
+    };
+    std::array<uint32_t, 2> tie{kNoNeighbor, kNoNeighbor};
+    int32_t left = kPassesBy;
+    // The ray meets a face on an edge that the tie-break gives to the boundary face beyond: enter that one (Embree
+    // need not report both faces of an edge), or, where it does not face the ray, the ray passes the mesh by here.
+    for (int hop = 0; hop < kMaxTieHops; ++hop) {
+        used.push_back(face);
+        t_in = t_out = entry_t(face);
+        left = walk(ray, shear, face, t_in, back, acc, t_out, stats, on_step, strict, tie);
+        if (left != kPassesBy || tie[0] == kNoNeighbor) break;
+        face = boundary_face_across(face, tie[0], tie[1]);
+        if (face < 0 || used.contains(face)) break;
+        const Face& f = topo_.faces[std::size_t(face)];
+        if (!(glm::dot(face_normal(mesh_, f.v), ray.dir) < 0.0)) break;
+    }
+    return left;
 }
 
 namespace {

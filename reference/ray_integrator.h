@@ -63,6 +63,8 @@ public:
     // The mesh's bounds: no ray meets a cell outside them.
     const Bounds& bounds() const { return bounds_; }
 
+    class UsedFaces;  // the boundary faces one ray has entered or left through (ray_integrator.cpp)
+
 private:
     struct Embree;
     // The loop over the ray's entries through the boundary: with `runs` null, every walk composites into one
@@ -74,10 +76,29 @@ private:
     struct Seen;   // one point so seen
     // The walk from boundary face `face` entered at ray parameter t_in, compositing into acc what lies at t >= t_clip;
     // returns the boundary face it leaves through and sets t_out. It walks by the points seen along the ray
-    // (walk_seen) when the ray passes through the entry face by that walk's own tests, else by the faces' planes.
+    // (walk_seen) when the ray passes through the entry face by that walk's own tests, else by the faces' planes;
+    // kPassesBy, having composited nothing, when the ray meets the face on its edge or vertex and the tie-break
+    // (Shear::passes_left) puts it outside (`tie` is then that edge, in canonical points), or, `strict`, when the
+    // ray passes outside the face at all.
+    static constexpr int32_t kPassesBy = -2;
     template <class OnStep>
     int32_t walk(const Ray& ray, const Shear& shear, int32_t face, double t_in, double t_clip, glm::dvec4& acc,
-                 double& t_out, RayStats& stats, OnStep on_step) const;
+                 double& t_out, RayStats& stats, OnStep on_step, bool strict, std::array<uint32_t, 2>& tie) const;
+    // The nearest boundary face the float ray from `o` (relative to Embree's shift) along `dir` enters at or after
+    // t_min, not in `used` (the filter decides in double on `ray` itself); -1 for none.
+    int32_t next_entry(const Ray& ray, const glm::dvec3& o, const glm::dvec3& dir, double t_min,
+                       const UsedFaces& used) const;
+    // next_entry for the ray moved a few float ulps the way the tie-break moves it (Ray::pixel_dx, pixel_dy).
+    int32_t nudged_entry(const Ray& ray, const glm::dvec3& o, double t_min, const UsedFaces& used) const;
+    // Enters the mesh through boundary face `face` (walk), or through the faces beyond the edges the tie-break hands
+    // the ray on to; each face tried is added to `used`. Returns walk's result for the face entered, or kPassesBy.
+    template <class OnStep>
+    int32_t enter(const Ray& ray, const Shear& shear, int32_t face, double t_min, double back, bool strict,
+                  UsedFaces& used, glm::dvec4& acc, double& t_in, double& t_out, RayStats& stats,
+                  OnStep on_step) const;
+    // The boundary face across the edge (p, q) of boundary face `face` (canonical points), found by turning round the
+    // edge through the cells that share it; -1 when the turn does not end on the boundary within kMaxEdgeTurn cells.
+    int32_t boundary_face_across(int32_t face, uint32_t p, uint32_t q) const;
     template <class OnStep>
     int32_t walk_seen(const Shear& shear, uint32_t tet, Seen f[3], double e[3], double t_in, double s_in, double t_clip,
                       glm::dvec4& acc, double& t_out, RayStats& stats, OnStep on_step) const;

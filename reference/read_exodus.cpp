@@ -448,7 +448,7 @@ void classify_blocks(ExoFile& f, std::vector<Block>& blocks)
                        std::to_string(b.solid->corners) + " corners");
             if (b.nodes_per_element > b.solid->corners)
                 f.warn(label + ": the " + std::to_string(b.nodes_per_element - b.solid->corners) +
-                       " mid-side nodes of each element are ignored (uvr uses the " +
+                       " higher-order nodes of each element are ignored (uvr uses the " +
                        std::to_string(b.solid->corners) + " corner nodes)");
             continue;
         }
@@ -487,11 +487,13 @@ void read_connectivity(ExoFile& f, const Block& b, std::size_t index, int64_t no
 
 // ---- time steps and variables ----
 
-// The chosen time step, from 1; 0 when the file has no time step (and then no variable to read).
-int choose_time_step(const ExoFile& f, const std::string& wanted, int64_t steps, bool has_variables)
+// The chosen time step, from 1; 0 when the file has no time step (then no variable is read: a warning says so where
+// the file defines some).
+int choose_time_step(ExoFile& f, const std::string& wanted, int64_t steps, bool has_variables)
 {
     if (wanted == "last") {
-        if (steps == 0 && has_variables) f.fail("the file defines variables but holds no time step");
+        if (steps == 0 && has_variables)
+            f.warn("the file defines variables but holds no time step: the mesh is read without fields");
         return int(steps);
     }
     int64_t index = 0;
@@ -631,6 +633,9 @@ Dataset read_exodus(const std::string& path, const std::string& time_step)
     if (init.num_nodes < 0 || uint64_t(init.num_nodes) > kMaxElements || init.num_elem_blk < 0 ||
         uint64_t(init.num_elem_blk) > kMaxElements)
         f.fail("invalid number of nodes or element blocks");
+    if (init.num_elem_blk == 0)
+        f.fail("the file has no element block (" + std::to_string(init.num_node_sets) + " node set(s), " +
+               std::to_string(init.num_side_sets) + " side set(s)): uvr renders the 3-D elements of element blocks");
 
     UnstructuredCells cells;
     cells.source = path;

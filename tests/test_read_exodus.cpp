@@ -338,8 +338,8 @@ TEST_CASE("Exodus reader reads every 3-D element type with its variables at each
     CHECK(same_fields(*uvr::load_dataset(path).mesh, *last.mesh));  // .exo comes here, at the last step by default
 
     // Higher-order blocks are read by their corners, with a warning.
-    CHECK(has_warning(first, "element block 5 (TETRA10): the 6 mid-side nodes"));
-    CHECK(has_warning(first, "element block 6 (HEX20): the 12 mid-side nodes"));
+    CHECK(has_warning(first, "element block 5 (TETRA10): the 6 higher-order nodes"));
+    CHECK(has_warning(first, "element block 6 (HEX20): the 12 higher-order nodes"));
     for (const std::string& w : first.warnings) CHECK_THAT(w, Catch::StartsWith(path + ": "));
 
     const nlohmann::json info = nlohmann::json::parse(last.info_json);
@@ -446,6 +446,72 @@ TEST_CASE("Exodus reader skips lower-dimensional blocks, empty blocks, sets and 
     CHECK(bare_info["time_step"].is_null());
 }
 
+TEST_CASE("Exodus reader reads variables without a time step as a mesh without fields, with a warning", "[exodus]")
+{
+    TempDir dir("exodus");
+    ExoSpec s;
+    add_element(s, 1, "TETRA", "", tetra(0));
+    s.nodal_names = {"t"};
+    s.element_names = {"p"};
+    write_exodus(dir.file("no_steps.exo"), s);
+    const uvr::Dataset d = uvr::read_exodus(dir.file("no_steps.exo"), "last");
+    REQUIRE(d.mesh);
+    CHECK(d.mesh->tets.size() == 1);
+    CHECK(d.mesh->fields.empty());
+    CHECK(has_warning(d, "defines variables but holds no time step"));
+    const nlohmann::json info = nlohmann::json::parse(d.info_json);
+    CHECK(info["nodal_variables"] == nlohmann::json({"t"}));
+    CHECK(info["element_variables"] == nlohmann::json({"p"}));
+    CHECK(info["time_step"].is_null());
+    // Rendering it asks for a field the mesh does not have.
+    const uvr::test::CommandResult r = uvr::test::run_uvr("render '" + dir.file("no_steps.exo") +
+                                                          "' --size 8x8 --out '" + dir.file("x.png") + "'");
+    CHECK(r.exit_code != 0);
+    CHECK_THAT(r.err, Catch::Contains("no scalar field"));
+    CHECK_FALSE(std::filesystem::exists(dir.file("x.png")));
+}
+
+TEST_CASE("Exodus reader reads HEX27, WEDGE15 and PYRAMID13 blocks by their corners", "[exodus]")
+{
+    TempDir dir("exodus");
+    ExoSpec s;
+    add_element(s, 1, "HEX27", "", hexahedron(0), 19);
+    add_element(s, 2, "WEDGE15", "", wedge(2), 9);
+    add_element(s, 3, "PYRAMID13", "", pyramid(4), 8);
+    s.nodal_names = {"x"};
+    s.element_names = {"block"};
+    s.times = {1.0};
+    const std::vector<glm::dvec3> points = s.points;
+    s.nodal_value = [points](int, int, int node) { return points[std::size_t(node)].x; };
+    s.element_value = [](int, int, int block, int) { return double(block); };
+    write_exodus(dir.file("higher.exo"), s);
+    const uvr::Dataset d = uvr::read_exodus(dir.file("higher.exo"), "last");
+    REQUIRE(d.mesh);
+    // The corners split as the linear cells are (6, 3 and 2 tetrahedra); a higher-order node used as a corner would
+    // sit 7 units above the element and change its volume.
+    const Expected expected[] = {{6, 1.0}, {3, 0.5}, {2, 1.0 / 3.0}};
+    std::size_t count[3] = {0, 0, 0};
+    double volume[3] = {0, 0, 0};
+    for (const uvr::Tet& t : d.mesh->tets) {
+        const std::size_t b = block_of(*d.mesh, t);
+        REQUIRE(b < 3);
+        ++count[b];
+        const auto& p = d.mesh->points;
+        volume[b] += uvr::signed_volume6(p[t[0]], p[t[1]], p[t[2]], p[t[3]]) / 6.0;
+    }
+    for (int b = 0; b < 3; ++b) {
+        INFO("block " << b + 1);
+        CHECK(count[b] == expected[b].tets);
+        CHECK(volume[b] == Approx(expected[b].volume).epsilon(1e-12));
+    }
+    CHECK(has_warning(d, "element block 1 (HEX27): the 19 higher-order nodes"));
+    CHECK(has_warning(d, "element block 2 (WEDGE15): the 9 higher-order nodes"));
+    CHECK(has_warning(d, "element block 3 (PYRAMID13): the 8 higher-order nodes"));
+    const uvr::ScalarField& x = field(*d.mesh, "x");
+    for (std::size_t i = 0; i < d.mesh->points.size(); ++i) CHECK(x.values[i] == d.mesh->points[i].x);
+    CHECK(field(*d.mesh, "block").values.size() == d.mesh->tets.size());
+}
+
 TEST_CASE("Exodus reader rejects bad input with a message naming the file", "[exodus][errors]")
 {
     TempDir dir("exodus");
@@ -493,7 +559,19 @@ TEST_CASE("Exodus reader rejects bad input with a message naming the file", "[ex
         add_element(s, 1, "TETRA", "", tetra(0));
         s.nodal_names = {"t"};
         write_exodus(dir.file("no_steps.exo"), s);
-        require_exodus_error(dir.file("no_steps.exo"), "last", "variables but holds no time step");
+        require_exodus_error(dir.file("no_steps.exo"), "1", "out of range", "no time step");
+    }
+    SECTION("a file of node and side sets without element blocks")
+    {
+        ExoSpec s;
+        s.points = tetra(0);
+        s.sets = true;
+        write_exodus(dir.file("sets.exo"), s);
+        require_exodus_error(dir.file("sets.exo"), "last", "no element block", "1 node set(s), 1 side set(s)");
+        ExoSpec nodes;
+        nodes.points = tetra(0);
+        write_exodus(dir.file("nodes.exo"), nodes);
+        require_exodus_error(dir.file("nodes.exo"), "last", "no element block", "0 node set(s), 0 side set(s)");
     }
     SECTION("meshes uvr does not read")
     {
@@ -574,7 +652,7 @@ TEST_CASE("uvr info shows an Exodus II file's blocks, variables and time step", 
     CHECK(format["nodal_variables"] == nlohmann::json({"temperature", "nodal_var_2"}));
     CHECK(format["element_variables"] == nlohmann::json({"pressure"}));
     CHECK(format["time_step"] == 1);
-    CHECK_THAT(r.err, Catch::Contains("mid-side nodes"));
+    CHECK_THAT(r.err, Catch::Contains("higher-order nodes"));
 
     const uvr::test::CommandResult bad = uvr::test::run_uvr("info '" + path + "' --time 9");
     CHECK(bad.exit_code != 0);

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <glm/geometric.hpp>
+
 namespace uvr::gpu {
 
 namespace {
@@ -17,6 +19,28 @@ void barycentrics_along(const glm::dvec3 m[3], double qx, double qy, double qz, 
     a[0] = 1.0 - ((a[1] + a[2]) + a[3]);
     b[0] = 0.0 - ((b[1] + b[2]) + b[3]);
 }
+// The rule for a ray that lies in the plane of faces of the cell (bit i of `in_plane`: face i), the same as the exact
+// coverage's fill rule (gpu/pipeline/exact_coverage.h; docs/spec.md §7): the ray counts as inside when the ray through
+// the pixel centre moved by (-e, -e^2) in window coordinates, e -> 0+, is inside each such face. Moving the pixel by
+// one in window x changes lambda_i by gx = m_i . (ray_ox + t ray_dx) times 2 / width (y: ray_oy, ray_dy), at any t
+// past the eye (one of the two terms is zero: orthographic rays share d, perspective ones o). The cell on the other
+// side of the face has the opposite gradient, so exactly one of the two takes the ray.
+bool inside_moved_ray(const VicpFrameConstants& fc, const VicpTet& tet, unsigned in_plane, double t_in, double t_out)
+{
+    const double t = t_out < kVicpNoExit ? 0.5 * (t_in + t_out) : t_in + 1.0;
+    const glm::dvec3 wx = fc.ray_ox + t * fc.ray_dx, wy = fc.ray_oy + t * fc.ray_dy;
+    for (int i = 0; i < 4; ++i) {
+        if (!(in_plane & (1u << i))) continue;
+        const glm::dvec3* m = (tet.boundary & (1u << i)) ? tet.me : tet.m;
+        const glm::dvec3 grad = i == 0 ? -((m[0] + m[1]) + m[2]) : m[i - 1];
+        const double gx = glm::dot(grad, wx) * fc.two_over_width, gy = glm::dot(grad, wy) * fc.two_over_height;
+        // gx is zero up to rounding where the face's trace on the screen is horizontal (kParallelFace's reasoning).
+        const bool horizontal = !(std::fabs(gx) > kParallelFace * (std::fabs(gx) + std::fabs(gy)));
+        if (!(horizontal ? -gy > 0.0 : -gx > 0.0)) return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 VicpSegment vicp_fragment_values(const VicpFrameConstants& fc, const VicpTet& tet, int pix_x, int pix_y)
@@ -50,15 +74,18 @@ VicpSegment vicp_fragment_values(const VicpFrameConstants& fc, const VicpTet& te
     double t_in = 0.0, t_out = kVicpNoExit;
     int exit_face = -1;
     bool misses = false;
+    unsigned in_plane = 0;  // bit i: the ray lies in face i's plane
     for (int i = 0; i < 4; ++i) {
         if (!(std::fabs(b[i]) > parallel)) {
             misses = misses || a[i] < -outside;
+            if (!(a[i] < -outside) && !(a[i] > outside)) in_plane |= 1u << i;
             continue;
         }
         const double t = -a[i] / b[i];
         if (b[i] > 0.0 && t > t_in) t_in = t;
         if (b[i] < 0.0 && t < t_out) t_out = t, exit_face = i;
     }
+    if (in_plane && !misses) misses = !inside_moved_ray(fc, tet, in_plane, t_in, t_out);
     const double scale = std::sqrt((dx * dx + dy * dy) + dz * dz);
     // The scalar along the ray, from the exact cell's field: s(t) = s0 + (g . (o - base) + t g . d).
     const double ga = (tet.g.x * bx + tet.g.y * by) + tet.g.z * bz;
