@@ -22,6 +22,11 @@ inline constexpr double kOrderTolerance = 0.25;
 // (first or second order in the step, docs/verification.md) stays below the table's at the sizes refined.
 inline constexpr double kTableRefinementStepDivisor = 16.0;
 
+// An observed order above the derived one by more than this still passes, but the verdict says "faster than
+// derived": the derivation or the measurement is wrong. uvr's own renderers are tested within [expected -
+// kOrderTolerance, expected + kFasterThanDerived] (tests/test_verify.cpp).
+inline constexpr double kFasterThanDerived = 0.75;
+
 // The orders of one error measure over the levels.
 struct OrderStudy {
     std::vector<double> h, errors;
@@ -43,6 +48,19 @@ inline constexpr Choices<Refinement, 4> kRefinements{
      {Refinement::table, "table", "the pre-integration table's size n, h = 1/n"},
      {Refinement::mesh, "mesh", "builtin:grid-N, against its analytic field's integral"},
      {Refinement::size, "size", "the image's resolution, each pixel against the mean of its four children"}}};
+
+// What a refinement of an algorithm converges at, per measure (NaN: no order to expect, so no verdict on that
+// measure), and why (docs/verification.md derives each).
+struct Expectation {
+    double rmse, max_abs;
+    std::string derivation;
+};
+// `clear_ends`: the ray caster's rays start and end where the transfer function has no extinction (box_faces_clear).
+Expectation expected_order(const std::string& algo, Refinement refine, const AlgoOptions& o, bool clear_ends = false);
+
+// Whether every scalar on the volume's six faces (bilinear between the faces' samples, so within their range) lies
+// where `tf` has no extinction: then every ray through the box starts and ends where the integrand is zero.
+bool box_faces_clear(const Volume& v, const TransferFunction& tf);
 
 // What `uvr verify` renders: `algo` at `levels` refinements of `refine` from `from` (0: the default), with `options` as
 // given or, with `isolate`, every other switch exact.

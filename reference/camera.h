@@ -23,7 +23,7 @@ struct Ray {
     glm::dvec3 dir;  // unit length; distances along the ray are world units from origin
     // Which way the ray moves when its pixel moves right (dx) or up (dy) in the window: the origin's way for an
     // orthographic camera, the direction's for a perspective one (`turns`); zero for a ray no pixel made. A ray in a
-    // face's plane, along an edge or through a vertex is decided as the ray of the pixel moved by (-e, -e^2), e -> 0+
+    // face's plane, along an edge or through a vertex is decided as the ray of the pixel moved by (e, e^2), e -> 0+
     // (docs/spec.md §7, "Rays on faces, edges and vertices").
     glm::dvec3 pixel_dx{0.0}, pixel_dy{0.0};
     bool turns = false;

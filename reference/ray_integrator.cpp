@@ -251,20 +251,21 @@ struct RayIntegrator::Shear {
 
     // Whether the ray passes left of p -> q, where `e` = side(p, q). An exact zero (the ray through the edge's line)
     // is decided as if the ray were moved (simulation of simplicity): for a pixel's ray, as the pixel moved by
-    // (-e, -e^2) in the window, the fill rule of HAVS's and VICP's exact coverage (docs/spec.md §7); for a ray no pixel
-    // made, by (e, e^2) in the plane. Two points on one line of sight (an edge along the ray) by their canonical
-    // indices. Every decision is antisymmetric in p and q, so a tie is broken the same way in every tetrahedron round
+    // (e, e^2) in the window (y up), the rasterizer's fill rule and the exact coverage's (docs/spec.md §7); where that leaves
+    // the side at zero, or for a ray no pixel made, by (e^3, e^4) in the plane. Two points on one line of sight (an
+    // edge along the ray) by their canonical indices. Every decision is antisymmetric in p and q, so a tie is broken the same way in every tetrahedron round
     // the edge.
     bool passes_left(const Seen& p, const Seen& q, double e) const
     {
         if (e != 0.0) return e > 0.0;
         if (pixel) {
-            if (const double cx = -side_change(mx, p, q); cx != 0.0) return cx > 0.0;
-            if (const double cy = -side_change(my, p, q); cy != 0.0) return cy > 0.0;
-        } else {
-            if (p.v != q.v) return p.v > q.v;
-            if (p.u != q.u) return q.u > p.u;
+            if (const double cx = side_change(mx, p, q); cx != 0.0) return cx > 0.0;
+            if (const double cy = side_change(my, p, q); cy != 0.0) return cy > 0.0;
         }
+        // A ray no pixel made; or a perspective ray through the eye at a point of the edge, which turning the ray
+        // about the eye cannot move off.
+        if (p.v != q.v) return p.v > q.v;
+        if (p.u != q.u) return q.u > p.u;
         return p.id < q.id;
     }
 };
@@ -649,7 +650,7 @@ int32_t RayIntegrator::nudged_entry(const Ray& ray, const glm::dvec3& o, double 
     // e^2 stands behind its e.
     constexpr double kNudgeUlps = 64.0;
     const double ulp = double(std::numeric_limits<float>::epsilon());
-    const glm::dvec3 move = -(ray.pixel_dx + ray.pixel_dy / 16.0);
+    const glm::dvec3 move = ray.pixel_dx + ray.pixel_dy / 16.0;
     if (ray.turns) return next_entry(ray, o, ray.dir + kNudgeUlps * ulp * move, t_min, used);
     const double size = embree_->scale + glm::length(o);
     return next_entry(ray, o + kNudgeUlps * ulp * size * move, ray.dir, t_min, used);

@@ -85,6 +85,17 @@ glm::dvec3 TransferFunction::color_at(double s) const
     return piecewise_linear(color, s, [](const ColorNode& n) { return n.rgb; });
 }
 
+bool TransferFunction::clear_between(double lo, double hi) const
+{
+    if (tau_at(lo) != 0.0 || tau_at(hi) != 0.0) return false;
+    // Linear between nodes: zero at both ends and at every node between (both sides of a jump) is zero throughout.
+    auto it = std::lower_bound(extinction.begin(), extinction.end(), lo,
+                               [](const ExtinctionNode& n, double v) { return n.s < v; });
+    for (; it != extinction.end() && it->s <= hi; ++it)
+        if (it->tau != 0.0) return false;
+    return true;
+}
+
 double TransferFunction::tau_at(double s) const
 {
     return piecewise_linear(extinction, s, [](const ExtinctionNode& n) { return n.tau; });

@@ -27,6 +27,8 @@ struct TransferFunction {
 
     glm::dvec3 color_at(double s) const;
     double tau_at(double s) const;
+    // Whether extinction is zero for every scalar in [lo, hi].
+    bool clear_between(double lo, double hi) const;
     // The sorted, unique scalar values where colour or extinction has a kink: a segment integral is split there.
     std::vector<double> breakpoints() const;
 };

@@ -135,18 +135,6 @@ double VolumeIntegrator::scalar_at(const glm::dvec3& p) const
     return s;
 }
 
-bool VolumeIntegrator::clear_between(double lo, double hi) const
-{
-    if (tf_.tau_at(lo) != 0.0 || tf_.tau_at(hi) != 0.0) return false;
-    // Linear between nodes: zero at both ends and at every node between (both sides of a jump) is zero throughout.
-    const auto& nodes = tf_.extinction;
-    auto it =
-        std::lower_bound(nodes.begin(), nodes.end(), lo, [](const ExtinctionNode& n, double v) { return n.s < v; });
-    for (; it != nodes.end() && it->s <= hi; ++it)
-        if (it->tau != 0.0) return false;
-    return true;
-}
-
 glm::dvec4 VolumeIntegrator::integrate_cell(const glm::dvec3& o, const glm::dvec3& d, double t0, double t1,
                                             double tol) const
 {
@@ -163,7 +151,7 @@ glm::dvec4 VolumeIntegrator::integrate_cell(const glm::dvec3& o, const glm::dvec
     for (int corner = 0; corner < 8; ++corner)
         corners[corner] = sample(c[0] + (corner & 1), c[1] + ((corner >> 1) & 1), c[2] + ((corner >> 2) & 1));
     const auto [lo, hi] = std::minmax_element(corners, corners + 8);
-    if (clear_between(*lo, *hi)) return glm::dvec4(0.0);
+    if (tf_.clear_between(*lo, *hi)) return glm::dvec4(0.0);
     // The local coordinates along the piece, x_a(u) = x0[a] + u * dx[a] for u in [0, L].
     const double L = t1 - t0;
     double x0[3], dx[3];

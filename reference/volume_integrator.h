@@ -41,8 +41,6 @@ private:
     std::vector<double> breaks_;
     Bounds box_;
     double sample(int64_t i, int64_t j, int64_t k) const;
-    // Whether extinction is zero for every scalar in [lo, hi].
-    bool clear_between(double lo, double hi) const;
     // One cell's piece of the ray from t0 to t1, its emission integrals to `tol` together.
     glm::dvec4 integrate_cell(const glm::dvec3& o, const glm::dvec3& d, double t0, double t1, double tol) const;
     using Cubic = std::array<double, 4>;  // in a piece's parameter u, lowest degree first

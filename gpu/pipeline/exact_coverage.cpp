@@ -17,13 +17,15 @@ double edge_function(const glm::dvec2& a, uint32_t ia, const glm::dvec2& b, uint
     return ia < ib ? orient(a, b) : -orient(b, a);
 }
 
-// The fill rule for a point exactly on an edge: the edge a -> b of a counter-clockwise triangle keeps it when it runs
-// upwards, or horizontally to the left. The neighbour runs the edge the other way, so exactly one of the two keeps it;
-// at a vertex, exactly one triangle of a fan around it does.
+// The fill rule for a point exactly on an edge, the rasterizer's own (gpu/pipeline/rasterize.h: left and bottom edges
+// in, GL y up): the point counts as moved by (e, e^2), e -> 0+, so the edge a -> b of a counter-clockwise triangle,
+// whose interior lies to its left, keeps it when it runs downwards, or horizontally to the right. The neighbour runs
+// the edge the other way, so exactly one of the two keeps it; at a vertex, exactly one triangle of a fan around it
+// does.
 bool keeps_points_on(const glm::dvec2& a, const glm::dvec2& b)
 {
     const double dx = b.x - a.x, dy = b.y - a.y;
-    return dy > 0.0 || (dy == 0.0 && dx < 0.0);
+    return dy < 0.0 || (dy == 0.0 && dx > 0.0);
 }
 
 }  // namespace

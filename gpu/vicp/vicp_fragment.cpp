@@ -19,9 +19,9 @@ void barycentrics_along(const glm::dvec3 m[3], double qx, double qy, double qz, 
     a[0] = 1.0 - ((a[1] + a[2]) + a[3]);
     b[0] = 0.0 - ((b[1] + b[2]) + b[3]);
 }
-// The rule for a ray that lies in the plane of faces of the cell (bit i of `in_plane`: face i), the same as the exact
-// coverage's fill rule (gpu/pipeline/exact_coverage.h; docs/spec.md §7): the ray counts as inside when the ray through
-// the pixel centre moved by (-e, -e^2) in window coordinates, e -> 0+, is inside each such face. Moving the pixel by
+// The rule for a ray that lies in the plane of faces of the cell (bit i of `in_plane`: face i), the rasterizer's fill
+// rule and the exact coverage's (gpu/pipeline/exact_coverage.h; docs/spec.md §7): the ray counts as inside when the
+// ray through the pixel centre moved by (e, e^2) in window coordinates (y up), e -> 0+, is inside each such face. Moving the pixel by
 // one in window x changes lambda_i by gx = m_i . (ray_ox + t ray_dx) times 2 / width (y: ray_oy, ray_dy), at any t
 // past the eye (one of the two terms is zero: orthographic rays share d, perspective ones o). The cell on the other
 // side of the face has the opposite gradient, so exactly one of the two takes the ray.
@@ -36,7 +36,7 @@ bool inside_moved_ray(const VicpFrameConstants& fc, const VicpTet& tet, unsigned
         const double gx = glm::dot(grad, wx) * fc.two_over_width, gy = glm::dot(grad, wy) * fc.two_over_height;
         // gx is zero up to rounding where the face's trace on the screen is horizontal (kParallelFace's reasoning).
         const bool horizontal = !(std::fabs(gx) > kParallelFace * (std::fabs(gx) + std::fabs(gy)));
-        if (!(horizontal ? -gy > 0.0 : -gx > 0.0)) return false;
+        if (!(horizontal ? gy > 0.0 : gx > 0.0)) return false;
     }
     return true;
 }
