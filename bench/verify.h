@@ -54,6 +54,9 @@ inline constexpr Choices<Refinement, 4> kRefinements{
 struct Expectation {
     double rmse, max_abs;
     std::string derivation;
+    // The largest error's order is only a worst case (a kink the worst ray may or may not meet): faster is no sign of
+    // a wrong derivation.
+    bool max_abs_at_least = false;
 };
 // `clear_ends`: the ray caster's rays start and end where the transfer function has no extinction (box_faces_clear).
 Expectation expected_order(const std::string& algo, Refinement refine, const AlgoOptions& o, bool clear_ends = false);
