@@ -1,6 +1,11 @@
-// The page of a `uvr budget` report (write_budget_page, bench/report.h): the budget as a table and a chart, each
-// factor's error heat map beside the total's, a sentence per factor. Self-contained, opened from the file system.
+// The page of a `uvr budget` report (write_budget_page, bench/report.h): the budget as a table and a chart (budget.svg),
+// each factor's error heat map beside the total's, a sentence per factor. Self-contained, opened from the file system.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "bench/report.h"
 #include "reference/io_util.h"
@@ -43,9 +48,69 @@ std::string figure(const std::string& name, const nlohmann::json& j)
            " image\"><figcaption>" + escape_markup(name) + "</figcaption></figure>\n";
 }
 
+// The chart's geometry in SVG user units: the plot area's left edge (room for the axis' labels), its height, one
+// run's slot, and the smallest error drawn (an exact run's bar stands at this floor).
+constexpr double kChartLeft = 70, kChartTop = 30, kChartHeight = 220, kChartSlot = 80, kChartFloor = 1e-9;
+
+// The budget as a bar chart (SVG): each run's RMSE on a logarithmic axis, its largest error as a black tick, the
+// baseline grey, the factors blue, the total red; a factor measured against the step run is labelled so.
+std::string budget_chart_svg(const nlohmann::json& b)
+{
+    std::vector<std::pair<std::string, const nlohmann::json*>> runs{{"baseline", &b["baseline"]}};
+    for (const auto& n : b["factor_order"]) runs.push_back({n.get<std::string>(), &b["factors"][n.get<std::string>()]});
+    runs.push_back({"total", &b["total"]});
+    double top = kChartFloor * 10;
+    for (const auto& [name, j] : runs) top = std::max({top, (*j)["rmse"].get<double>(), (*j)["max_abs"].get<double>()});
+    const int decades = int(std::ceil(std::log10(top / kChartFloor)));
+    const auto y = [&](double v) {
+        return kChartTop + kChartHeight * (1.0 - std::log10(std::max(v, kChartFloor) / kChartFloor) / decades);
+    };
+    const double width = kChartLeft + kChartSlot * double(runs.size()) + 20;
+    char buf[512];
+    std::snprintf(buf, sizeof buf,
+                  "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" font-family=\"sans-serif\" "
+                  "font-size=\"11\"><text x=\"%.0f\" y=\"16\" font-size=\"13\">error (RMSE bars, largest error ticks)"
+                  "</text>\n",
+                  width, kChartTop + kChartHeight + 50, kChartLeft);
+    std::string svg = buf;
+    for (int d = 0; d <= decades; ++d) {
+        const double v = kChartFloor * std::pow(10.0, d), yy = y(v);
+        std::snprintf(buf, sizeof buf,
+                      "<line x1=\"%.0f\" x2=\"%.0f\" y1=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.0f\" "
+                      "y=\"%.1f\" text-anchor=\"end\">1e%d</text>\n",
+                      kChartLeft, width - 10, yy, yy, kChartLeft - 6, yy + 4, int(std::lround(std::log10(v))));
+        svg += buf;
+    }
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+        const auto& [name, j] = runs[i];
+        const double x = kChartLeft + kChartSlot * double(i) + 15, bar = y((*j)["rmse"].get<double>());
+        const char* colour = i == 0 ? "#999" : i + 1 == runs.size() ? "#d62728" : "#1f77b4";
+        const bool vs_step = j->value("against", "reference") == "step";
+        std::snprintf(buf, sizeof buf,
+                      "<rect x=\"%.0f\" y=\"%.1f\" width=\"%.0f\" height=\"%.1f\" fill=\"%s\"/><line x1=\"%.0f\" "
+                      "x2=\"%.0f\" y1=\"%.1f\" y2=\"%.1f\" stroke=\"#000\" stroke-width=\"2\"/><text x=\"%.0f\" "
+                      "y=\"%.0f\" text-anchor=\"middle\">%s</text>\n",
+                      x, bar, kChartSlot - 30, kChartTop + kChartHeight - bar, colour, x - 5, x + kChartSlot - 25,
+                      y((*j)["max_abs"].get<double>()), y((*j)["max_abs"].get<double>()), x + (kChartSlot - 30) / 2,
+                      kChartTop + kChartHeight + 16, escape_markup(name).c_str());
+        svg += buf;
+        if (vs_step) {
+            std::snprintf(buf, sizeof buf, "<text x=\"%.0f\" y=\"%.0f\" text-anchor=\"middle\">(vs step)</text>\n",
+                          x + (kChartSlot - 30) / 2, kChartTop + kChartHeight + 30);
+            svg += buf;
+        }
+    }
+    return svg + "</svg>\n";
+}
+
 }  // namespace
 
-void write_budget_page(const std::string& dir, const nlohmann::json& b, bool chart)
+void write_budget_chart(const std::string& dir, const nlohmann::json& budget)
+{
+    write_file_atomically(dir + "/budget.svg", budget_chart_svg(budget));
+}
+
+void write_budget_page(const std::string& dir, const nlohmann::json& b)
 {
     const std::string algo = b["algo"].get<std::string>();
     std::string h =
@@ -78,10 +143,7 @@ void write_budget_page(const std::string& dir, const nlohmann::json& b, bool cha
     }
     h += row("total", b["total"], "the configuration as given: every cause at once");
     h += "</table>\n";
-    if (chart)
-        h += "<p><img src=\"budget.png\" alt=\"the budget as a chart\"></p>\n";
-    else
-        h += "<p>(Chart not drawn: python3-matplotlib is missing.)</p>\n";
+    h += "<p><img src=\"budget.svg\" alt=\"the budget as a chart\"></p>\n";
     h += "<h2>Error maps</h2>\n<p>Each run's largest channel error per pixel, beside its image:</p>\n" +
          heat_legend_html() + "\n";
     h += figure("total", b["total"]);

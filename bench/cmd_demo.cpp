@@ -164,8 +164,7 @@ void demo_sweep_and_budgets(const Scene& s, const std::string& dir, Steps& steps
         run_budget(s, algo, emu, dir + "/budget-" + algo, "builtin:torus");
         nlohmann::json b = {{"title", algo == "havs" ? "HAVS (k = 6)" : "VICP (MPVONC)"},
                             {"page", "budget-" + algo + "/index.html"}};
-        if (std::filesystem::exists(dir + "/budget-" + algo + "/budget.png"))
-            b["chart"] = "budget-" + algo + "/budget.png";  // drawn when python3-matplotlib is there
+        b["chart"] = "budget-" + algo + "/budget.svg";
         page["budgets"].push_back(b);
     }
 }

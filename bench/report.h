@@ -20,8 +20,9 @@ void write_compare_page(const std::string& dir, const nlohmann::json& metrics);
 // Writes DIR/index.html for a sweep report (the content of sweep.json); `plots` says whether the PNG plots exist.
 void write_sweep_page(const std::string& dir, const nlohmann::json& sweep, bool plots);
 
-// Writes DIR/index.html for a budget report (the content of budget.json); `chart` says whether budget.png exists.
-void write_budget_page(const std::string& dir, const nlohmann::json& budget, bool chart);
+// Writes DIR/budget.svg, the budget (the content of budget.json) as a bar chart, and DIR/index.html, its page.
+void write_budget_chart(const std::string& dir, const nlohmann::json& budget);
+void write_budget_page(const std::string& dir, const nlohmann::json& budget);
 
 // Writes DIR/index.html for `uvr demo`: `page` has "parts" (each a compare report: "title", "page", "results" as in
 // metrics.json with image paths relative to DIR and, on GL and ARB rows, "same_bits" / "same_bits_as"; or

@@ -97,6 +97,9 @@ void write_png_rgb8(const std::string& path, int width, int height, const std::v
         throw InputError(path, "PNG encoding failed");
     }
     png_set_write_fn(png, &out, png_write_to_string, nullptr);
+    // zlib's fastest level: the images are viewed, not archived. At the default level (6) encoding took a third of a
+    // 512² budget's time outside its renders; the files are 15-30 % larger.
+    png_set_compression_level(png, 1);
     png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8, PNG_COLOR_TYPE_RGB,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_write_info(png, info);

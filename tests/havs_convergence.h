@@ -4,6 +4,7 @@
 #pragma once
 
 #include "gpu/havs/havs.h"
+#include "gpu/vicp/vicp.h"
 #include "mesh_scenes.h"
 #include "image_errors.h"
 #include "reference/reference_renderer.h"
@@ -27,6 +28,27 @@ inline gpu::HavsOptions exact_havs_options(int k)
     gpu::HavsOptions o;
     o.k = k;
     o.segment = gpu::SegmentMode::exact;
+    o.threshold = 1.0f;
+    return o;
+}
+
+// Every switch exact (docs/spec.md §7): HAVS with every fragment held, ties by facing, exact gaps, coverage,
+// interpolation and segments, no termination; VICP with exact coverage, interpolation and segments, no termination.
+inline gpu::HavsOptions havs_every_switch_exact()
+{
+    gpu::HavsOptions o = exact_havs_options(gpu::kEveryFragment);
+    o.ties = gpu::TieOrder::facing;
+    o.coverage = gpu::Coverage::exact;
+    o.interpolation = gpu::InterpolationMode::exact;
+    o.gaps = gpu::GapMode::exact;
+    return o;
+}
+inline gpu::VicpOptions vicp_every_switch_exact()
+{
+    gpu::VicpOptions o;
+    o.segment = gpu::SegmentMode::exact;
+    o.coverage = gpu::Coverage::exact;
+    o.interpolation = gpu::InterpolationMode::exact;
     o.threshold = 1.0f;
     return o;
 }

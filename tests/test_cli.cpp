@@ -287,7 +287,7 @@ TEST_CASE("uvr demo shows the whole lab, each GL image with its emulated twin's 
     // inline (python3-matplotlib is one of the packages scripts/install-deps.sh installs).
     const std::string index = uvr::test::file_contents(tmp.file("d/index.html"));
     CHECK_THAT(index, Catch::Contains("same bits") && Catch::Contains("img{width:256px;"));
-    for (const char* plot : {"sweep/error_vs_k.png", "budget-havs/budget.png", "budget-vicp/budget.png"}) {
+    for (const char* plot : {"sweep/error_vs_k.png", "budget-havs/budget.svg", "budget-vicp/budget.svg"}) {
         CHECK_THAT(index, Catch::Contains(std::string("src=\"") + plot + "\""));
         CHECK(std::filesystem::exists(tmp.file(std::string("d/") + plot)));
     }

@@ -94,24 +94,14 @@ void check_exact_algorithms(const test::Scene& s, const Camera& cam, int size)
     const Image ref = render_reference(ri, cam, size, size, rs);
     REQUIRE(test::image_errors(ref, Image(size, size), 0.0).max_abs > 0.1);  // the block is in view
 
-    // Every switch exact (docs/spec.md §7): a fragment for every face, ties by facing, exact gaps (a cell field jumps
-    // across faces), exact coverage, interpolation and segments, no termination.
-    HavsOptions ho = test::exact_havs_options(kEveryFragment);
-    ho.ties = TieOrder::facing;
-    ho.gaps = GapMode::exact;
-    ho.coverage = Coverage::exact;
-    ho.interpolation = InterpolationMode::exact;
-    const HavsFrame h = HavsRenderer(s.mesh, s.topo, s.field, s.tf, ho).render(cam, size, size);
+    const HavsFrame h =
+        HavsRenderer(s.mesh, s.topo, s.field, s.tf, test::havs_every_switch_exact()).render(cam, size, size);
     const test::ImageErrors eh = test::image_errors(h.image, ref, kExactMax);
     INFO("HAVS: RMSE " << eh.rmse << ", max " << eh.max_abs << ", pixels over " << kExactMax << ": " << eh.over);
     CHECK(eh.max_abs <= kExactMax);
 
-    VicpOptions vo;
-    vo.segment = SegmentMode::exact;
-    vo.threshold = 1.0f;
-    vo.coverage = Coverage::exact;
-    vo.interpolation = InterpolationMode::exact;
-    const VicpFrame v = VicpRenderer(s.mesh, s.topo, s.field, s.tf, vo).render(cam, size, size);
+    const VicpFrame v =
+        VicpRenderer(s.mesh, s.topo, s.field, s.tf, test::vicp_every_switch_exact()).render(cam, size, size);
     const test::ImageErrors ev = test::image_errors(v.image, ref, kExactMax);
     INFO("VICP: RMSE " << ev.rmse << ", max " << ev.max_abs << ", pixels over " << kExactMax << ": " << ev.over);
     CHECK(ev.max_abs <= kExactMax);

@@ -168,26 +168,6 @@ std::vector<Camera> box_views()
             perspective({-3.0, 4.5, 5.0}, c), perspective({6.0, -2.0, -1.5}, c)};
 }
 
-gpu::HavsOptions havs_every_switch_exact()
-{
-    gpu::HavsOptions o = test::exact_havs_options(gpu::kEveryFragment);
-    o.ties = gpu::TieOrder::facing;
-    o.coverage = gpu::Coverage::exact;
-    o.interpolation = gpu::InterpolationMode::exact;
-    o.gaps = gpu::GapMode::exact;
-    return o;
-}
-
-gpu::VicpOptions vicp_every_switch_exact()
-{
-    gpu::VicpOptions o;
-    o.segment = gpu::SegmentMode::exact;
-    o.coverage = gpu::Coverage::exact;
-    o.interpolation = gpu::InterpolationMode::exact;
-    o.threshold = 1.0f;
-    return o;
-}
-
 // Each renderer on each view against the closed form.
 void check_scene(const TetMesh& mesh, const std::vector<Piece>& pieces, const std::vector<Camera>& views)
 {
@@ -196,8 +176,8 @@ void check_scene(const TetMesh& mesh, const std::vector<Piece>& pieces, const st
     for (const Tf tf : {Tf::opacity, Tf::colour}) {
         const TransferFunction t = transfer_function(tf);
         const RayIntegrator ri(mesh, topo, 0, t);
-        const gpu::HavsRenderer havs(mesh, topo, 0, t, havs_every_switch_exact());
-        const gpu::VicpRenderer vicp(mesh, topo, 0, t, vicp_every_switch_exact());
+        const gpu::HavsRenderer havs(mesh, topo, 0, t, test::havs_every_switch_exact());
+        const gpu::VicpRenderer vicp(mesh, topo, 0, t, test::vicp_every_switch_exact());
         for (std::size_t v = 0; v < views.size(); ++v) {
             INFO("transfer function " << (tf == Tf::opacity ? "opacity" : "colour") << ", view " << v);
             ReferenceStats rs;
@@ -266,8 +246,8 @@ TEST_CASE("a real mesh whose points are repeated per cell, with a field that jum
     for (const auto& [az, el] : {std::pair{0.0, 0.0}, {-40.0, 70.0}, {90.0, 10.0}}) {
         const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, az, el);
         const Image ref = test::mesh_reference(s, cam, kSize, kSize);
-        const Image havs = gpu::HavsRenderer(s.mesh, s.topo, 0, s.tf, havs_every_switch_exact()).render(cam, kSize, kSize).image;
-        const Image vicp = gpu::VicpRenderer(s.mesh, s.topo, 0, s.tf, vicp_every_switch_exact()).render(cam, kSize, kSize).image;
+        const Image havs = gpu::HavsRenderer(s.mesh, s.topo, 0, s.tf, test::havs_every_switch_exact()).render(cam, kSize, kSize).image;
+        const Image vicp = gpu::VicpRenderer(s.mesh, s.topo, 0, s.tf, test::vicp_every_switch_exact()).render(cam, kSize, kSize).image;
         const test::ImageErrors h = test::image_errors(havs, ref, kExactGpuTolerance);
         const test::ImageErrors v = test::image_errors(vicp, ref, kExactGpuTolerance);
         INFO("view " << az << ", " << el << ": HAVS largest " << h.max_abs << " (" << h.over << " pixels over), VICP "
@@ -283,14 +263,14 @@ TEST_CASE("HAVS's exact gaps on a non-convex mesh written with every point repea
     // connect them, so no boundary face is a seam and every one can start a gap (the hole).
     const test::Scene torus = test::make_scene(load_builtin("builtin:torus-small"), 0);
     const test::Scene s = test::with_jump(torus, 0.0);
-    const gpu::HavsMesh hm(s.mesh, s.topo, 0, s.tf, havs_every_switch_exact());
+    const gpu::HavsMesh hm(s.mesh, s.topo, 0, s.tf, test::havs_every_switch_exact());
     std::size_t exits = 0;
     for (std::size_t f = 0; f < hm.face_count(); ++f) exits += hm.exit_capable(f) ? 1 : 0;
     CHECK(exits == s.topo.boundary_faces);
     constexpr int kSize = 96;
     const Camera cam = default_camera(mesh_bounds(s.mesh), 1.0, 20.0, 50.0);
     const Image ref = test::mesh_reference(s, cam, kSize, kSize);
-    const Image havs = gpu::HavsRenderer(s.mesh, s.topo, 0, s.tf, havs_every_switch_exact()).render(cam, kSize, kSize).image;
+    const Image havs = gpu::HavsRenderer(s.mesh, s.topo, 0, s.tf, test::havs_every_switch_exact()).render(cam, kSize, kSize).image;
     const test::ImageErrors e = test::image_errors(havs, ref, kExactGpuTolerance);
     INFO("largest error " << e.max_abs << ", " << e.over << " pixels over");
     CHECK(e.max_abs <= kExactGpuTolerance);

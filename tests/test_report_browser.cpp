@@ -81,11 +81,11 @@ TEST_CASE("the budget page loads in a real browser with its chart, every error m
     const auto b = run_uvr("budget builtin:torus-small --algo vicp --size 64x64 --report '" + tmp.file("budget") + "'");
     INFO(b.err);
     REQUIRE(b.exit_code == 0);
-    REQUIRE(std::filesystem::exists(tmp.file("budget/budget.png")));  // matplotlib drew the chart
+    REQUIRE(std::filesystem::exists(tmp.file("budget/budget.svg")));
     check_page(tmp, tmp.file("budget/index.html"), tmp.file("budget.png"));
     // The table, the chart, and the error map and image of every run: baseline, five factors, total.
     const std::string html = uvr::test::file_contents(tmp.file("budget/index.html"));
-    CHECK_THAT(html, Catch::Contains("src=\"budget.png\""));
+    CHECK_THAT(html, Catch::Contains("src=\"budget.svg\""));
     for (const char* run : {"baseline", "sort", "table", "interpolation", "coverage", "termination", "total"}) {
         INFO(run);
         CHECK_THAT(html, Catch::Contains(std::string("src=\"runs/") + run + "-error.png\""));
