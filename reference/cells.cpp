@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <map>
 
+#include <glm/geometric.hpp>
+
 #include "reference/error.h"
 #include "reference/topology.h"
 
@@ -308,6 +310,57 @@ TetMesh tetrahedralize_structured(const StructuredGrid& grid)
     if (mesh.tets.empty()) throw InputError(file, "every cell of the grid is blanked (iblank 0)");
     finalize_mesh(mesh, DegenerateCells::keep);
     return mesh;
+}
+
+namespace {
+
+// The Jacobian determinant of the trilinear map of corners c (bit v of a corner's index: (i, j, k) = (v & 1, v >> 1 &
+// 1, v >> 2 & 1)) at parameters (u, v, w).
+double trilinear_jacobian(const glm::dvec3 c[8], double u, double v, double w)
+{
+    const double a[2] = {1.0 - u, u}, b[2] = {1.0 - v, v}, g[2] = {1.0 - w, w};
+    glm::dvec3 du(0.0), dv(0.0), dw(0.0);
+    for (int j = 0; j < 2; ++j)
+        for (int k = 0; k < 2; ++k) {
+            du += b[j] * g[k] * (c[1 | j << 1 | k << 2] - c[j << 1 | k << 2]);
+            dv += a[j] * g[k] * (c[j | 2 | k << 2] - c[j | k << 2]);
+            dw += a[j] * b[k] * (c[j | k << 1 | 4] - c[j | k << 1]);
+        }
+    return glm::dot(du, glm::cross(dv, dw));
+}
+
+}  // namespace
+
+HexahedronCensus hexahedron_census(const StructuredGrid& grid)
+{
+    HexahedronCensus census;
+    const int64_t ni = grid.dims[0], nj = grid.dims[1], nk = grid.dims[2];
+    for (int64_t k = 0; k + 1 < nk; ++k)
+        for (int64_t j = 0; j + 1 < nj; ++j)
+            for (int64_t i = 0; i + 1 < ni; ++i) {
+                glm::dvec3 c[8];
+                bool blanked = false;
+                for (int v = 0; v < 8; ++v) {
+                    const int64_t di = v & 1, dj = v >> 1 & 1, dk = v >> 2 & 1;
+                    const std::size_t idx = std::size_t((i + di) + ni * ((j + dj) + nj * (k + dk)));
+                    c[v] = grid.points[idx];
+                    blanked = blanked || (!grid.iblank.empty() && grid.iblank[idx] == 0);
+                }
+                if (blanked) continue;
+                ++census.hexahedra;
+                bool repeated = false;
+                for (int p = 0; p < 8 && !repeated; ++p)
+                    for (int q = p + 1; q < 8 && !repeated; ++q) repeated = c[p] == c[q];
+                census.collapsed += repeated ? 1 : 0;
+                bool positive = false, negative = false;
+                for (int s = 0; s < 27; ++s) {
+                    const double det = trilinear_jacobian(c, 0.5 * (s % 3), 0.5 * (s / 3 % 3), 0.5 * (s / 9));
+                    positive = positive || det > 0.0;
+                    negative = negative || det < 0.0;
+                }
+                census.folded += positive && negative ? 1 : 0;
+            }
+    return census;
 }
 
 }  // namespace uvr

@@ -58,4 +58,12 @@ struct StructuredGrid {
 // Throws InputError for dims < 2 or a point count that does not match.
 TetMesh tetrahedralize_structured(const StructuredGrid& grid);
 
+// The grid's cells as its writer meant them, trilinear hexahedra: how many are not blanked, how many are collapsed (two
+// corners at one position: an O-grid's axis, a wedge written as a hexahedron) and how many fold (the map's Jacobian
+// determinant is positive at some and negative at others of the 27 points whose parameters are 0, 1/2 or 1).
+struct HexahedronCensus {
+    std::size_t hexahedra = 0, collapsed = 0, folded = 0;
+};
+HexahedronCensus hexahedron_census(const StructuredGrid& grid);
+
 }  // namespace uvr

@@ -42,10 +42,6 @@ struct RayIntegrator::Embree {
     }
 };
 
-namespace {
-
-}  // namespace
-
 // The boundary faces one ray has entered or left through: most rays use a few, so they are held in place, and only a
 // ray through many gaps allocates.
 class RayIntegrator::UsedFaces {
@@ -251,10 +247,10 @@ struct RayIntegrator::Shear {
 
     // Whether the ray passes left of p -> q, where `e` = side(p, q). An exact zero (the ray through the edge's line)
     // is decided as if the ray were moved (simulation of simplicity): for a pixel's ray, as the pixel moved by
-    // (e, e^2) in the window (y up), the rasterizer's fill rule and the exact coverage's (docs/spec.md §7); where that leaves
-    // the side at zero, or for a ray no pixel made, by (e^3, e^4) in the plane. Two points on one line of sight (an
-    // edge along the ray) by their canonical indices. Every decision is antisymmetric in p and q, so a tie is broken the same way in every tetrahedron round
-    // the edge.
+    // (e, e^2) in the window (y up), the rasterizer's fill rule and the exact coverage's (docs/spec.md §7); where that
+    // leaves the side at zero, or for a ray no pixel made, by (e^3, e^4) in the plane. Two points on one line of sight
+    // (an edge along the ray) by their canonical indices. Every decision is antisymmetric in p and q, so a tie is
+    // broken the same way in every tetrahedron round the edge.
     bool passes_left(const Seen& p, const Seen& q, double e) const
     {
         if (e != 0.0) return e > 0.0;

@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "reference/cells.h"
 #include "reference/dataset.h"
 #include "reference/error.h"
@@ -264,6 +266,13 @@ Dataset read_plot3d(const std::string& xyz_path, const std::string& q_path)
     StructuredGrid grid = read_grid(xyz_path, layout);
     Dataset result;
     if (!q_path.empty()) read_q(q_path, xyz_path, layout, grid, result.warnings);
+    const HexahedronCensus census = hexahedron_census(grid);
+    result.info_json = nlohmann::json({{"format", "PLOT3D"},
+                                       {"dims", grid.dims},
+                                       {"hexahedra", census.hexahedra},
+                                       {"collapsed_hexahedra", census.collapsed},
+                                       {"folded_hexahedra", census.folded}})
+                           .dump();
     result.mesh = tetrahedralize_structured(grid);
     result.mesh->source = xyz_path;
     return result;

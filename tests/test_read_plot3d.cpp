@@ -1,5 +1,9 @@
 // The PLOT3D reader: the NASA Blunt Fin and Oxygen Post grids, layout detection, iblank, and broken files.
 #include <cstring>
+#include <functional>
+
+#include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
 
 #include "reference/dataset.h"
 #include "test_support.h"
@@ -59,14 +63,15 @@ std::string header(int ni, int nj, int nk, const Options& o)
     return h + record(dims, o);
 }
 
-// A grid of unit cubes, point (i, j, k) at (i, j, k); `iblank` empty for none.
-std::string xyz_file(int ni, int nj, int nk, const std::vector<int32_t>& iblank, const Options& o)
+// A grid whose point (i, j, k) is at place(i, j, k), by default a grid of unit cubes; `iblank` empty for none.
+std::string xyz_file(int ni, int nj, int nk, const std::vector<int32_t>& iblank, const Options& o,
+                     const std::function<glm::dvec3(int, int, int)>& place = {})
 {
     std::string body;
     for (int axis = 0; axis < 3; ++axis)
         for (int k = 0; k < nk; ++k)
             for (int j = 0; j < nj; ++j)
-                for (int i = 0; i < ni; ++i) put_real(body, axis == 0 ? i : axis == 1 ? j : k, o);
+                for (int i = 0; i < ni; ++i) put_real(body, place ? place(i, j, k)[axis] : (axis == 0 ? i : axis == 1 ? j : k), o);
     for (int32_t b : iblank) put<int32_t>(body, b, o.big_endian);
     return header(ni, nj, nk, o) + record(body, o);
 }
@@ -124,6 +129,38 @@ TEST_CASE("PLOT3D reader builds the classic tetrahedral meshes of the NASA grids
         CHECK(d.mesh->tets.size() == 187395);
         CHECK(d.mesh->fields.empty());
     }
+}
+
+TEST_CASE("PLOT3D reader counts the grid's hexahedra, the collapsed and the folded ones")
+{
+    TempDir tmp("plot3d-census");
+    const Options o;
+    // 4 x 2 x 2 points, three cells: the first folded (its corner (0, 1, 1) pushed through the opposite face, to
+    // x = 1.6, so the map turns inside out near that corner but not at the others), the second as written, the third
+    // collapsed (its corners at i = 3, j = 1 moved onto those at j = 0: a wedge written as a hexahedron).
+    const auto place = [](int i, int j, int k) {
+        if (i == 0 && j == 1 && k == 1) return glm::dvec3(1.6, 1, 1);
+        if (i == 3 && j == 1) return glm::dvec3(3, 0, k);
+        return glm::dvec3(i, j, k);
+    };
+    const std::string path = tmp.write("census.xyz", xyz_file(4, 2, 2, {}, o, place));
+    const Dataset d = read_plot3d(path, "");
+    const nlohmann::json info = nlohmann::json::parse(d.info_json);
+    CHECK(info["format"] == "PLOT3D");
+    CHECK(info["dims"] == nlohmann::json({4, 2, 2}));
+    CHECK(info["hexahedra"] == 3);
+    CHECK(info["collapsed_hexahedra"] == 1);
+    CHECK(info["folded_hexahedra"] == 1);
+    // The NASA grids (docs/formats.md): Blunt Fin's 39 cells along its symmetry line are collapsed (the 39 points
+    // that repeat a position), none folds; the Oxygen Post has neither.
+    const nlohmann::json fin = nlohmann::json::parse(read_plot3d(data_path("vtk-data/bluntfinxyz.bin"), "").info_json);
+    CHECK(fin["hexahedra"] == 39 * 31 * 31);
+    CHECK(fin["collapsed_hexahedra"] == 39);
+    CHECK(fin["folded_hexahedra"] == 0);
+    const nlohmann::json post = nlohmann::json::parse(read_plot3d(data_path("vtk-data/postxyz.bin"), "").info_json);
+    CHECK(post["hexahedra"] == 37 * 75 * 37);
+    CHECK(post["collapsed_hexahedra"] == 0);
+    CHECK(post["folded_hexahedra"] == 0);
 }
 
 TEST_CASE("PLOT3D reader drops the cells that touch a blanked point")
