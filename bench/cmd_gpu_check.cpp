@@ -1,7 +1,7 @@
 // `uvr gpu-check MESH [input options] --out OUT`: the GPU check of docs/gpu.md. Picks the GL device, says what it is
 // and which extensions HAVS's k-buffer path uses, then renders HAVS (k = 6 and the largest k), VICP and the ray caster
-// at each size, each measured against the CPU reference with uvr compare's measures and timed as uvr bench times,
-// and writes OUT/gpu-check.json and OUT/index.html.
+// at each size, each measured against the CPU reference with uvr compare's measures and timed as uvr bench times.
+// OUT/gpu-check.json and OUT/index.html are rewritten after every run; a failed run is kept with its error.
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -41,6 +41,7 @@ struct GpuCheckOptions {
     int grid = 120;                           // builtin:grid-N beside MESH (120: 10,368,000 tetrahedra); 0: none
     std::string volume = kBuiltinVolumePath;  // the ray caster's regular grid
     int warmup = 1, repeat = 3;               // frames per configuration, as uvr bench
+    double time_limit = 240.0;                // seconds after which no new run starts
     std::string out;
     bool json = false;
 };
@@ -120,31 +121,71 @@ nlohmann::json check_run(const Scene& s, const std::string& name, const std::str
     return j;
 }
 
-// Every run on one scene at one size: HAVS at k = 6 and at the largest k and VICP on a mesh, the ray caster on a grid.
-void check_scene(const SceneOptions& so, const std::string& name, const CheckDevice& d, const GpuCheckOptions& c,
-                 nlohmann::json& runs)
+// What the check has measured so far, rewritten (OUT/gpu-check.json and the page, each replaced whole) after every
+// run, so that a check stopped at any point leaves valid files holding every run it finished (docs/gpu.md).
+struct CheckRecord {
+    std::string out;
+    nlohmann::json j;
+    Clock::time_point t0 = Clock::now();
+    double time_limit = 0.0;
+
+    void save() const;
+    // True, and the record says why, once the time limit has passed: no new run starts.
+    bool out_of_time()
+    {
+        if (ms_since(t0) <= 1000.0 * time_limit) return false;
+        j["stopped"] = "the time limit of " + std::to_string(time_limit) + " s passed (--time-limit)";
+        return true;
+    }
+    // A run that failed, kept with its error: the check goes on without it.
+    void failed(const std::string& scene, const std::string& what, int size, const std::exception& e)
+    {
+        j["runs"].push_back({{"scene", scene}, {"label", what}, {"width", size}, {"height", size}, {"error", e.what()}});
+        std::printf("%-10s %5dx%-5d %-16s failed: %s\n", scene.c_str(), size, size, what.c_str(), e.what());
+        save();
+    }
+};
+
+// One run, timed and measured, or its error; saved either way. False once the time limit stops the check.
+bool record_run(CheckRecord& rec, const Scene& s, const std::string& name, const std::string& algo,
+                const AlgoOptions& o, const GpuCheckOptions& c, const Image& reference, std::size_t cells)
 {
+    if (rec.out_of_time()) return false;
+    try {
+        rec.j["runs"].push_back(check_run(s, name, algo, o, c, reference, cells));
+        rec.save();
+    } catch (const std::exception& e) {
+        rec.failed(name, find_algorithm(algo).label(o), s.width, e);
+    }
+    return true;
+}
+
+// Every run on one scene at one size: HAVS at k = 6 and at the largest k and VICP on a mesh, the ray caster on a grid;
+// the CPU reference first, its time recorded apart from the GPU's frames. False once the time limit stops the check.
+bool check_scene(const SceneOptions& so, const std::string& name, const CheckDevice& d, const GpuCheckOptions& c,
+                 CheckRecord& rec)
+{
+    if (rec.out_of_time()) return false;
     const Scene s = setup_scene(so);
     const AlgoResult ref = run_algorithm(s, "reference", AlgoOptions{});
+    rec.j["references"].push_back(
+        {{"scene", name}, {"width", s.width}, {"height", s.height}, {"ms", ref.ms}, {"cached", ref.cached}});
     AlgoOptions o;
     o.backend = "gl";
     o.gl = d.platform;
     o.gl_device = d.egl_device;
     o.diagnostics = false;  // as uvr bench times them; the image is the same
-    if (s.is_volume()) {
-        runs.push_back(check_run(s, name, "raycast", o, c, ref.image, 0));
-        return;
-    }
+    if (s.is_volume()) return record_run(rec, s, name, "raycast", o, c, ref.image, 0);
     const std::size_t cells = s.mesh().tets.size();
     if (kbuffer_path(d.info)["path"] != kNoKBufferPath) {
         // k = 6 (the HAVS paper's) and the largest k, each once.
         const int kmax = gpu::GlHavsRenderer::max_k(d.info, false);
         for (const int k : std::set<int>{std::min(6, kmax), kmax}) {
             o.k = k;
-            runs.push_back(check_run(s, name, "havs", o, c, ref.image, cells));
+            if (!record_run(rec, s, name, "havs", o, c, ref.image, cells)) return false;
         }
     }
-    runs.push_back(check_run(s, name, "vicp", o, c, ref.image, cells));
+    return record_run(rec, s, name, "vicp", o, c, ref.image, cells);
 }
 
 void write_check_page(const std::string& dir, const nlohmann::json& j)
@@ -158,6 +199,13 @@ void write_check_page(const std::string& dir, const nlohmann::json& j)
         "</p><table><tr><th>scene</th><th>size</th><th>run</th><th>RMSE</th><th>largest error</th>"
         "<th>ms per frame</th><th>tetrahedra per second</th></tr>";
     for (const auto& r : j["runs"]) {
+        if (r.contains("error")) {
+            html += "<tr><td>" + escape_markup(r["scene"].get<std::string>()) + "</td><td>" +
+                    std::to_string(r["width"].get<int>()) + "&times;" + std::to_string(r["height"].get<int>()) +
+                    "</td><td>" + escape_markup(r["label"].get<std::string>()) + "</td><td colspan=\"4\">failed: " +
+                    escape_markup(r["error"].get<std::string>()) + "</td></tr>";
+            continue;
+        }
         char line[512];
         std::snprintf(line, sizeof line,
                       "<tr><td>%s</td><td>%d&times;%d</td><td>%s</td><td>%.3e</td><td>%.3e</td><td>%.2f</td>"
@@ -168,22 +216,60 @@ void write_check_page(const std::string& dir, const nlohmann::json& j)
                       r["tetrahedra_per_second"].get<double>());
         html += line;
     }
-    html += "</table><p>Every number: <a href=\"gpu-check.json\">gpu-check.json</a></p></body></html>\n";
+    html += "</table><p>" +
+            std::string(j["complete"].get<bool>() ? "Every run of the check is here."
+                        : j.contains("stopped")   ? "Stopped: " + escape_markup(j["stopped"].get<std::string>()) + "."
+                                                  : "The check is still running, or was stopped.") +
+            " Every number: <a href=\"gpu-check.json\">gpu-check.json</a></p></body></html>\n";
     write_file_atomically(dir + "/index.html", html);
+}
+
+void CheckRecord::save() const
+{
+    write_file_atomically(out + "/gpu-check.json", j.dump(1) + "\n");
+    write_check_page(out, j);
+}
+
+// The scenes in the order that gives the most for the time: the real mesh at every size (largest first), the ray
+// caster's volume, then the large grid. Each: its options and the name the runs carry.
+std::vector<std::pair<SceneOptions, std::string>> check_scenes(const GpuCheckOptions& c)
+{
+    std::vector<std::string> sizes = split_list(c.sizes);
+    std::reverse(sizes.begin(), sizes.end());
+    std::vector<std::pair<SceneOptions, std::string>> scenes;
+    const auto add = [&](const InputOptions& input, const std::string& name) {
+        for (const std::string& n : sizes) {
+            SceneOptions so;
+            so.size = n + "x" + n;  // checked where the scene reads it
+            so.input = input;
+            scenes.push_back({so, name});
+        }
+    };
+    add(c.mesh, std::filesystem::path(c.mesh.path).stem().string());
+    InputOptions volume;
+    volume.path = c.volume;
+    add(volume, std::filesystem::path(c.volume).stem().string());
+    if (c.grid > 0) {
+        InputOptions grid;
+        grid.path = "builtin:grid-" + std::to_string(c.grid);
+        add(grid, "grid-" + std::to_string(c.grid));
+    }
+    return scenes;
 }
 
 void run_gpu_check(const GpuCheckOptions& c)
 {
-    std::vector<std::string> sizes = split_list(c.sizes);
-    if (sizes.empty()) throw InputError("", "--sizes needs at least one size");
+    if (split_list(c.sizes).empty()) throw InputError("", "--sizes needs at least one size");
     if (c.warmup < 0 || c.repeat < 1) throw InputError("", "--warmup takes 0 or more frames, --repeat 1 or more");
     if (c.grid < 0) throw InputError("", "--grid takes 0 (none) or the N of builtin:grid-N");
+    if (!(c.time_limit > 0.0)) throw InputError("", "--time-limit takes a positive number of seconds");
     const GpuChoice gpu_choice = parse_choice("--gpu", kGpuChoices, c.gpu);
     std::error_code ec;
     std::filesystem::create_directories(c.out, ec);
     if (ec) throw InputError(c.out, "cannot create the directory: " + ec.message());
     const CheckDevice d = choose_device(c, gpu_choice);
-    nlohmann::json j;
+    CheckRecord rec{c.out, {}, Clock::now(), c.time_limit};
+    nlohmann::json& j = rec.j;
     j["renderer"] = d.info.summary();
     j["vendor"] = d.info.vendor;
     j["platform"] = d.platform;
@@ -191,25 +277,23 @@ void run_gpu_check(const GpuCheckOptions& c)
     j["choice"] = d.choice;
     j["kbuffer"] = kbuffer_path(d.info);
     j["machine"] = {{"threads", std::thread::hardware_concurrency()}};
+    j["complete"] = false;
     j["runs"] = nlohmann::json::array();
+    j["references"] = nlohmann::json::array();
+    rec.save();
     std::printf("GL: %s\n%s\nk-buffer: %s (largest k %d)\n", j["renderer"].get<std::string>().c_str(), d.choice.c_str(),
                 j["kbuffer"]["path"].get<std::string>().c_str(), j["kbuffer"]["max_k"].get<int>());
-    for (const std::string& n : sizes) {
-        SceneOptions so;
-        so.size = n + "x" + n;  // checked where the scene reads it
-        so.input = c.mesh;
-        check_scene(so, std::filesystem::path(c.mesh.path).stem().string(), d, c, j["runs"]);
-        if (c.grid > 0) {
-            so.input = InputOptions{};
-            so.input.path = "builtin:grid-" + std::to_string(c.grid);
-            check_scene(so, "grid-" + std::to_string(c.grid), d, c, j["runs"]);
+    bool finished = true;
+    for (const auto& [so, name] : check_scenes(c)) {
+        try {
+            finished = check_scene(so, name, d, c, rec);
+        } catch (const std::exception& e) {  // a scene that cannot be made or drawn: kept with its error
+            rec.failed(name, "scene", std::stoi(so.size), e);
         }
-        so.input = InputOptions{};
-        so.input.path = c.volume;
-        check_scene(so, std::filesystem::path(c.volume).stem().string(), d, c, j["runs"]);
+        if (!finished) break;
     }
-    write_file_atomically(c.out + "/gpu-check.json", j.dump(1) + "\n");
-    write_check_page(c.out, j);
+    j["complete"] = finished;
+    rec.save();
     if (c.json) std::printf("%s\n", j.dump(1).c_str());
 }
 
@@ -230,6 +314,9 @@ void register_gpu_check(CLI::App& app)
     cmd->add_option("--volume", c->volume, "The ray caster's regular grid")->capture_default_str();
     cmd->add_option("--warmup", c->warmup, "Frames rendered before the timed ones")->capture_default_str();
     cmd->add_option("--repeat", c->repeat, "Timed frames per configuration (the median is kept)")
+        ->capture_default_str();
+    cmd->add_option("--time-limit", c->time_limit,
+                    "Seconds after which no new run starts; the files hold every run finished")
         ->capture_default_str();
     cmd->add_option("--out", c->out, "Directory for gpu-check.json and index.html")->required();
     cmd->add_flag("--json", c->json, "Print gpu-check.json's object on stdout");

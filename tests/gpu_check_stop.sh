@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# uvr gpu-check keeps what it measured (docs/gpu.md): stopped by SIGTERM after its first run, OUT/gpu-check.json is
+# valid JSON holding that run, `complete` false; past --time-limit no new run starts and the files say why; a scene
+# that cannot be read is kept with its error and the other runs go on. On llvmpipe.
+# Usage: tests/gpu_check_stop.sh UVR_BINARY
+set -euo pipefail
+uvr=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() {
+  echo "FAIL: $*" >&2
+  exit 1
+}
+runs() {  # DIR: the number of runs in DIR/gpu-check.json (fails on invalid JSON)
+  python3 -c 'import json, sys; print(len(json.load(open(sys.argv[1] + "/gpu-check.json"))["runs"]))' "$1"
+}
+field() {  # DIR KEY: the JSON value of KEY
+  python3 -c 'import json, sys; print(json.dumps(json.load(open(sys.argv[1] + "/gpu-check.json")).get(sys.argv[2])))' \
+    "$1" "$2"
+}
+quick=(builtin:torus-small --gpu llvmpipe --grid 0 --warmup 0)
+
+# SIGTERM once the first run is written: many runs are left to do (eight sizes, twenty frames each).
+"$uvr" gpu-check "${quick[@]}" --sizes 24,24,24,24,24,24,24,24 --repeat 20 --out "$tmp/term" >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 1 600); do
+  [ -s "$tmp/term/gpu-check.json" ] && [ "$(runs "$tmp/term")" -ge 1 ] && break
+  sleep 0.1
+done
+kill -TERM "$pid" 2>/dev/null || fail "the check ended before it could be stopped"
+wait "$pid" && fail "a check stopped by SIGTERM exited 0"
+n=$(runs "$tmp/term") || fail "gpu-check.json is not valid JSON after SIGTERM"
+[ "$n" -ge 1 ] || fail "gpu-check.json holds no run after SIGTERM"
+[ "$(field "$tmp/term" complete)" = false ] || fail "a stopped check says it is complete"
+python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))["runs"][0]; sys.exit(0 if "rmse" in r else 1)' \
+  "$tmp/term/gpu-check.json" || fail "the first run has no measures"
+
+# --time-limit: no run starts once it has passed; the files are finished and say why.
+"$uvr" gpu-check "${quick[@]}" --sizes 24 --repeat 1 --time-limit 0.000001 --out "$tmp/limit" >/dev/null ||
+  fail "a check stopped by its time limit failed"
+[ "$(runs "$tmp/limit")" -eq 0 ] || fail "a run started after the time limit"
+[ "$(field "$tmp/limit" complete)" = false ] || fail "a check stopped by its time limit says it is complete"
+field "$tmp/limit" stopped | grep -q "time limit" || fail "the JSON does not say the time limit stopped it"
+grep -q "Stopped: the time limit" "$tmp/limit/index.html" || fail "the page does not say the time limit stopped it"
+
+# A scene that cannot be read: kept with its error; the mesh's runs stand and the check completes.
+"$uvr" gpu-check "${quick[@]}" --sizes 24 --repeat 1 --volume "$tmp/none.vti" --out "$tmp/error" >/dev/null ||
+  fail "a check with a missing volume failed"
+[ "$(field "$tmp/error" complete)" = true ] || fail "the check did not complete"
+python3 - "$tmp/error/gpu-check.json" <<'PY' || fail "the missing volume's run is not kept with its error"
+import json, sys
+runs = json.load(open(sys.argv[1]))["runs"]
+errors = [r for r in runs if "error" in r]
+assert len(errors) == 1 and "none.vti" in errors[0]["error"], errors
+assert any("rmse" in r for r in runs)
+PY
+echo "gpu-check: valid after SIGTERM, stopped by its time limit, a failed scene kept; every check passed"
