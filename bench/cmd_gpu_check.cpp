@@ -3,6 +3,7 @@
 // at each size, each measured against the CPU reference with uvr compare's measures and timed as uvr bench times.
 // OUT/gpu-check.json and OUT/index.html are rewritten after every run; a failed run is kept with its error.
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <algorithm>
@@ -94,6 +95,30 @@ nlohmann::json kbuffer_path(const gpu::GlInfo& info)
     return j;
 }
 
+// The share of pixels whose four channels are not all the same floats in `a` and `b` (same size).
+double pixels_differing(const Image& a, const Image& b)
+{
+    std::size_t differ = 0;
+    for (std::size_t p = 0; p + 3 < a.rgba.size(); p += 4)
+        differ += std::memcmp(&a.rgba[p], &b.rgba[p], 4 * sizeof(float)) != 0 ? 1 : 0;
+    return a.rgba.empty() ? 0.0 : double(differ) / double(a.rgba.size() / 4);
+}
+
+// How well llvmpipe predicts this device (docs/gpu.md): the same frame by the CPU emulation, its error against the
+// reference, and the device's frame against it (RMSE, largest error, the share of pixels differing in any bit). On
+// llvmpipe the emulation is llvmpipe's own arithmetic, so the difference is zero on every default path.
+void add_emulation(nlohmann::json& j, const Scene& s, const std::string& algo, const AlgoOptions& o,
+                   const Image& gpu_frame, const Image& reference)
+{
+    AlgoOptions eo = o;
+    eo.backend = "emu";
+    const AlgoResult emu = run_algorithm(s, algo, eo);
+    j["emulation"] = measures_json(measure_errors(emu.image, reference));
+    const ErrorMeasures d = measure_errors(gpu_frame, emu.image);
+    j["gpu_vs_emulation"] = {{"rmse", d.rmse}, {"max_abs", d.max_abs},
+                             {"pixels_differing", pixels_differing(gpu_frame, emu.image)}};
+}
+
 // One configuration: timed frames, the last one measured against the reference. `cells` counts the scene's
 // tetrahedra (0 for a regular grid).
 nlohmann::json check_run(const Scene& s, const std::string& name, const std::string& algo, const AlgoOptions& o,
@@ -114,6 +139,7 @@ nlohmann::json check_run(const Scene& s, const std::string& name, const std::str
     j["tetrahedra"] = cells;
     j["tetrahedra_per_second"] = cells ? double(cells) / (row["frame_ms"].get<double>() / 1000.0) : 0.0;
     j["peak_memory_mib"] = double(peak_memory_bytes()) / (1024.0 * 1024.0);
+    add_emulation(j, s, algo, o, last, reference);
     std::printf("%-10s %5dx%-5d %-16s rmse %.3e max %.3e  %9.2f ms/frame\n", name.c_str(), s.width, s.height,
                 j["label"].get<std::string>().c_str(), j["rmse"].get<double>(), j["max_abs"].get<double>(),
                 j["frame_ms"].get<double>());
@@ -197,7 +223,8 @@ void write_check_page(const std::string& dir, const nlohmann::json& j)
         escape_markup(j["renderer"].get<std::string>()) + "<br>" + escape_markup(j["choice"].get<std::string>()) +
         "<br>k-buffer: " + escape_markup(j["kbuffer"]["path"].get<std::string>()) +
         "</p><table><tr><th>scene</th><th>size</th><th>run</th><th>RMSE</th><th>largest error</th>"
-        "<th>ms per frame</th><th>tetrahedra per second</th></tr>";
+        "<th>ms per frame</th><th>tetrahedra per second</th><th>emulation's RMSE</th>"
+        "<th>pixels differing from the emulation</th></tr>";
     for (const auto& r : j["runs"]) {
         if (r.contains("error")) {
             html += "<tr><td>" + escape_markup(r["scene"].get<std::string>()) + "</td><td>" +
@@ -209,11 +236,12 @@ void write_check_page(const std::string& dir, const nlohmann::json& j)
         char line[512];
         std::snprintf(line, sizeof line,
                       "<tr><td>%s</td><td>%d&times;%d</td><td>%s</td><td>%.3e</td><td>%.3e</td><td>%.2f</td>"
-                      "<td>%.3g</td></tr>",
+                      "<td>%.3g</td><td>%.3e</td><td>%.4f</td></tr>",
                       escape_markup(r["scene"].get<std::string>()).c_str(), r["width"].get<int>(),
                       r["height"].get<int>(), escape_markup(r["label"].get<std::string>()).c_str(),
                       r["rmse"].get<double>(), r["max_abs"].get<double>(), r["frame_ms"].get<double>(),
-                      r["tetrahedra_per_second"].get<double>());
+                      r["tetrahedra_per_second"].get<double>(), r["emulation"]["rmse"].get<double>(),
+                      r["gpu_vs_emulation"]["pixels_differing"].get<double>());
         html += line;
     }
     html += "</table><p>" +

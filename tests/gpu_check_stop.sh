@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # uvr gpu-check keeps what it measured (docs/gpu.md): stopped by SIGTERM after its first run, OUT/gpu-check.json is
 # valid JSON holding that run, `complete` false; past --time-limit no new run starts and the files say why; a scene
-# that cannot be read is kept with its error and the other runs go on. On llvmpipe.
+# that cannot be read is kept with its error and the other runs go on; each run's frame equals the CPU emulation's bit
+# for bit (on llvmpipe the emulation is the device's arithmetic). On llvmpipe.
 # Usage: tests/gpu_check_stop.sh UVR_BINARY
 set -euo pipefail
 uvr=$1
@@ -54,4 +55,14 @@ errors = [r for r in runs if "error" in r]
 assert len(errors) == 1 and "none.vti" in errors[0]["error"], errors
 assert any("rmse" in r for r in runs)
 PY
-echo "gpu-check: valid after SIGTERM, stopped by its time limit, a failed scene kept; every check passed"
+# On llvmpipe the emulation is the device's own arithmetic: every run's frame equals it bit for bit.
+python3 - "$tmp/error/gpu-check.json" <<'PY' || fail "llvmpipe's frames differ from the emulation's"
+import json, sys
+for r in json.load(open(sys.argv[1]))["runs"]:
+    if "error" in r:
+        continue
+    d = r["gpu_vs_emulation"]
+    assert d["rmse"] == 0 and d["max_abs"] == 0 and d["pixels_differing"] == 0, (r["label"], d)
+    assert r["emulation"]["rmse"] == r["rmse"], r["label"]
+PY
+echo "gpu-check: valid after SIGTERM, stopped by its time limit, a failed scene kept, llvmpipe the emulation; every check passed"
