@@ -300,6 +300,9 @@ void run_gpu_check(const GpuCheckOptions& c)
     nlohmann::json& j = rec.j;
     j["renderer"] = d.info.summary();
     j["vendor"] = d.info.vendor;
+    j["gl_renderer"] = d.info.renderer;
+    j["gl_version"] = d.info.version;
+    j["extensions"] = d.info.extensions;
     j["platform"] = d.platform;
     j["hardware"] = d.info.hardware;
     j["choice"] = d.choice;

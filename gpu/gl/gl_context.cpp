@@ -207,8 +207,8 @@ struct GlContext::Impl {
         return true;
     }
 
-    // One EGL device as the device platform describes it: its index, extensions and whether it is hardware (a DRM
-    // node that is not Mesa's software device).
+    // One EGL device as the device platform describes it: its index, extensions and whether it is hardware (it does
+    // not say it is software).
     struct EglDevice {
         EGLDeviceEXT handle = nullptr;
         std::string name;
@@ -227,7 +227,7 @@ struct GlContext::Impl {
         if (!query_devices(kMaxEglDevices, handles, &n)) return out;
         for (EGLint i = 0; i < n; ++i) {
             const char* dexts = device_string(handles[i], EGL_EXTENSIONS);
-            const bool hardware = has_word(dexts, "EGL_EXT_device_drm") && !has_word(dexts, "EGL_MESA_device_software");
+            const bool hardware = !egl_device_is_software(dexts ? dexts : "");
             out.push_back({handles[i], "device " + std::to_string(i) + " (" + (dexts ? dexts : "") + ")", hardware});
         }
         return out;
@@ -331,6 +331,7 @@ GlContext::GlContext(GlPlatform platform, GlProfile profile, int egl_device) : i
     if (!parse_version(info_.version, major, minor) || major * 10 + minor < 45)
         throw InputError("", where + ": OpenGL 4.5 is needed, the context has '" + info_.version + "' (" +
                                  info_.renderer + ")");
+    if (renderer_is_software(info_.renderer)) info_.hardware = false;
     GLint n = 0;
     gl_.GetIntegerv(GL_NUM_EXTENSIONS, &n);
     for (GLint i = 0; i < n; ++i) {
@@ -340,6 +341,16 @@ GlContext::GlContext(GlPlatform platform, GlProfile profile, int egl_device) : i
     gl_.GetIntegerv(GL_MAX_DRAW_BUFFERS, &info_.max_draw_buffers);
     gl_.GetIntegerv(GL_MAX_COLOR_ATTACHMENTS, &info_.max_color_attachments);
     check_error("creating the context");
+}
+
+bool egl_device_is_software(const std::string& device_extensions)
+{
+    return has_word(device_extensions.c_str(), "EGL_MESA_device_software");
+}
+
+bool renderer_is_software(const std::string& renderer)
+{
+    return renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
 }
 
 GlContext::~GlContext() = default;

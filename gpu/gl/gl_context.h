@@ -120,7 +120,7 @@ struct GlFunctions {
 struct GlInfo {
     GlPlatform platform = GlPlatform::osmesa;
     std::string detail;    // how it was made: "OSMesa 8.0 core 4.5", "EGL 1.5 device 0 (EGL_MESA_device_software)"
-    bool hardware = false;  // an EGL device with a DRM node that is not Mesa's software device (a GPU)
+    bool hardware = false;  // an EGL device that does not say it is software (egl_device_is_software), nor its renderer
     // GL_VENDOR, GL_RENDERER, GL_VERSION, GL_SHADING_LANGUAGE_VERSION
     std::string vendor, renderer, version, glsl_version;
     std::vector<std::string> extensions;
@@ -132,6 +132,13 @@ struct GlInfo {
 // core: what every GLSL stage runs on. compatibility (OSMesa only): the profile that keeps ARB assembly programs and
 // the fixed-function matrix stacks, for the published programs (--backend arb, gpu/havs/gl_havs_arb.h).
 enum class GlProfile { core, compatibility };
+
+// How a device is told to be software: by what it says of itself. An EGL device is software when its extensions name
+// EGL_MESA_device_software (Mesa's llvmpipe device); any other counts as hardware, a DRM node or not (an NVIDIA device
+// in a container without /dev/dri lists none). Once a context is made, a renderer string naming llvmpipe or softpipe
+// makes it software too. docs/gpu.md, "Which device".
+bool egl_device_is_software(const std::string& device_extensions);
+bool renderer_is_software(const std::string& renderer);
 
 // GlContext's choice of EGL device: any (hardware first), or an index into EGL's device list, of which the first
 // kMaxEglDevices are looked at (more GPUs than one machine holds).
