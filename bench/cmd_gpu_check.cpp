@@ -18,6 +18,7 @@
 #include "bench/options.h"
 #include "bench/report.h"
 #include "gpu/gl/gl_context.h"
+#include "gpu/gl/gl_fragment_access.h"
 #include "gpu/havs/gl_havs.h"
 #include "reference/builtin_mesh.h"
 #include "reference/choice.h"
@@ -77,20 +78,24 @@ CheckDevice choose_device(const GpuCheckOptions& o, GpuChoice choice)
     return osmesa(why);
 }
 
-constexpr const char* kNoKBufferPath = "none (HAVS cannot run on this device)";
-
-// The extensions the k-buffer path looks for, which one it takes, and the largest k (without diagnostics).
+// The extensions the fragment programs' routes look for, the route this device takes (gl_fragment_access.h; the same
+// for HAVS's k-buffer and VICP's compositing), or why it has none, and HAVS's largest k (without diagnostics).
 nlohmann::json kbuffer_path(const gpu::GlInfo& info)
 {
     nlohmann::json j;
     for (const char* e :
          {"GL_EXT_shader_framebuffer_fetch", "GL_ARB_fragment_shader_interlock", "GL_NV_fragment_shader_interlock"})
         j["extensions"][e] = info.has_extension(e);
-    j["path"] = info.has_extension("GL_EXT_shader_framebuffer_fetch") ? "framebuffer fetch"
-                : info.has_extension("GL_ARB_fragment_shader_interlock") ||
-                        info.has_extension("GL_NV_fragment_shader_interlock")
-                    ? "image load/store in a fragment-shader interlock"
-                    : kNoKBufferPath;
+    try {
+        const gpu::FragmentAccessPath p =
+            gpu::choose_fragment_access(info, gpu::FramebufferAccess::automatic, "HAVS and VICP");
+        j["path"] = !p.images ? "framebuffer fetch"
+                    : p.interlock.empty() ? "image load/store (llvmpipe: no interlock needed)"
+                                          : "image load/store in a fragment-shader interlock (" + p.interlock + ")";
+    } catch (const InputError& e) {
+        j["path"] = "none";
+        j["why"] = e.what();
+    }
     j["max_k"] = gpu::GlHavsRenderer::max_k(info, false);
     return j;
 }
@@ -163,6 +168,13 @@ struct CheckRecord {
         j["stopped"] = "the time limit of " + std::to_string(time_limit) + " s passed (--time-limit)";
         return true;
     }
+    // A run this device has no route for, kept with the reason: the check goes on without it.
+    void skipped(const std::string& scene, const std::string& what, int size, const std::string& why)
+    {
+        j["runs"].push_back({{"scene", scene}, {"label", what}, {"width", size}, {"height", size}, {"skipped", why}});
+        std::printf("%-10s %5dx%-5d %-16s skipped: %s\n", scene.c_str(), size, size, what.c_str(), why.c_str());
+        save();
+    }
     // A run that failed, kept with its error: the check goes on without it.
     void failed(const std::string& scene, const std::string& what, int size, const std::exception& e)
     {
@@ -203,13 +215,17 @@ bool check_scene(const SceneOptions& so, const std::string& name, const CheckDev
     o.diagnostics = false;  // as uvr bench times them; the image is the same
     if (s.is_volume()) return record_run(rec, s, name, "raycast", o, c, ref.image, 0);
     const std::size_t cells = s.mesh().tets.size();
-    if (kbuffer_path(d.info)["path"] != kNoKBufferPath) {
-        // k = 6 (the HAVS paper's) and the largest k, each once.
-        const int kmax = gpu::GlHavsRenderer::max_k(d.info, false);
-        for (const int k : std::set<int>{std::min(6, kmax), kmax}) {
-            o.k = k;
-            if (!record_run(rec, s, name, "havs", o, c, ref.image, cells)) return false;
-        }
+    const nlohmann::json path = kbuffer_path(d.info);
+    if (path["path"] == "none") {  // neither algorithm has a route here: both skipped, the reason kept
+        for (const char* algo : {"havs", "vicp"})
+            rec.skipped(name, algo, s.width, path["why"].get<std::string>());
+        return true;
+    }
+    // k = 6 (the HAVS paper's) and the largest k, each once.
+    const int kmax = gpu::GlHavsRenderer::max_k(d.info, false);
+    for (const int k : std::set<int>{std::min(6, kmax), kmax}) {
+        o.k = k;
+        if (!record_run(rec, s, name, "havs", o, c, ref.image, cells)) return false;
     }
     return record_run(rec, s, name, "vicp", o, c, ref.image, cells);
 }
@@ -226,11 +242,13 @@ void write_check_page(const std::string& dir, const nlohmann::json& j)
         "<th>ms per frame</th><th>tetrahedra per second</th><th>emulation's RMSE</th>"
         "<th>pixels differing from the emulation</th></tr>";
     for (const auto& r : j["runs"]) {
-        if (r.contains("error")) {
+        if (r.contains("error") || r.contains("skipped")) {
+            const bool failed = r.contains("error");
             html += "<tr><td>" + escape_markup(r["scene"].get<std::string>()) + "</td><td>" +
                     std::to_string(r["width"].get<int>()) + "&times;" + std::to_string(r["height"].get<int>()) +
-                    "</td><td>" + escape_markup(r["label"].get<std::string>()) + "</td><td colspan=\"4\">failed: " +
-                    escape_markup(r["error"].get<std::string>()) + "</td></tr>";
+                    "</td><td>" + escape_markup(r["label"].get<std::string>()) + "</td><td colspan=\"6\">" +
+                    (failed ? "failed: " : "skipped: ") +
+                    escape_markup(r[failed ? "error" : "skipped"].get<std::string>()) + "</td></tr>";
             continue;
         }
         char line[512];

@@ -1,6 +1,7 @@
 // VICP's published program draw (--interpolation gpu, gpu/vicp/gl_vicp.cpp): the fragment program's main.
-// preintegration_table.frag, vicp_tet.glsl, vicp_fragment.frag (the compositing), vicp_published.glsl and
-// vicp_published_fragment.frag (the exit) are compiled in front of this file; vicp_published.vert is its vertex side.
+// preintegration_table.frag, vicp_tet.glsl, vicp_fragment.frag (the compositing), vicp_published.glsl,
+// vicp_published_fragment.frag (the exit) and vicp_framebuffer.frag are compiled in front of this file;
+// vicp_published.vert is its vertex side.
 // The twin of VicpRenderer::composite_published (gpu/vicp/vicp.cpp). Back faces leave the attachments as read, as in
 // vicp.frag (on gl_FrontFacing, llvmpipe's fixed-point facing).
 
@@ -9,8 +10,6 @@ smooth in vec3 vicp_published_scalar;
 smooth in float vicp_published_s;
 smooth in vec3 vicp_published_entry;
 
-layout(location = 0) inout vec4 vicp_color;
-layout(location = 1) inout vec4 vicp_diagnostics;  // VicpDiagnostics as floats (vicp_composite)
 
 vec4 vicp_shade(float u_front, float u_back, float t_z, float seg_length)
 {
@@ -28,8 +27,9 @@ void main()
     seg.t_in = t_in;
     seg.t_out = t_out;
     seg.length = double(e.length);
-    vec4 fb = vicp_color, diag = vicp_diagnostics;
+    vicp_begin_interlock();
+    vec4 fb = vicp_load_color(), diag = vicp_load_diagnostics();
     if (gl_FrontFacing) vicp_composite(seg, fb, diag);  // killed: fb and diag are as read
-    vicp_color = fb;
-    vicp_diagnostics = diag;
+    vicp_store(fb, diag);
+    vicp_end_interlock();
 }

@@ -2,7 +2,9 @@
 # uvr gpu-check keeps what it measured (docs/gpu.md): stopped by SIGTERM after its first run, OUT/gpu-check.json is
 # valid JSON holding that run, `complete` false; past --time-limit no new run starts and the files say why; a scene
 # that cannot be read is kept with its error and the other runs go on; each run's frame equals the CPU emulation's bit
-# for bit (on llvmpipe the emulation is the device's arithmetic). On llvmpipe.
+# for bit (on llvmpipe the emulation is the device's arithmetic); with framebuffer fetch hidden (UVR_GL_HIDE_EXTENSIONS)
+# HAVS and VICP take the image route and still give those bits; with the image route hidden too, both are skipped with
+# the reason and the ray caster runs. On llvmpipe.
 # Usage: tests/gpu_check_stop.sh UVR_BINARY
 set -euo pipefail
 uvr=$1
@@ -65,4 +67,28 @@ for r in json.load(open(sys.argv[1]))["runs"]:
     assert d["rmse"] == 0 and d["max_abs"] == 0 and d["pixels_differing"] == 0, (r["label"], d)
     assert r["emulation"]["rmse"] == r["rmse"], r["label"]
 PY
-echo "gpu-check: valid after SIGTERM, stopped by its time limit, a failed scene kept, llvmpipe the emulation; every check passed"
+# Framebuffer fetch hidden: HAVS and VICP through the image route (no interlock on llvmpipe), the emulation's bits.
+UVR_GL_HIDE_EXTENSIONS=GL_EXT_shader_framebuffer_fetch "$uvr" gpu-check "${quick[@]}" --sizes 24 --repeat 1 \
+  --out "$tmp/images" >/dev/null || fail "the check with framebuffer fetch hidden failed"
+python3 - "$tmp/images/gpu-check.json" <<'PY' || fail "the image route did not run or differs from the emulation"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["kbuffer"]["path"].startswith("image load/store"), j["kbuffer"]
+runs = {r["label"]: r for r in j["runs"]}
+for label in ("havs-gl-k6", "vicp-gl-mpvonc", "raycast-gl-post"):
+    assert runs[label]["gpu_vs_emulation"]["pixels_differing"] == 0, (label, runs[label])
+PY
+# Fetch and the image route hidden: HAVS and VICP skipped with the missing extensions named, the ray caster runs, the
+# check completes.
+UVR_GL_HIDE_EXTENSIONS=GL_EXT_shader_framebuffer_fetch,UVR_llvmpipe_image_route "$uvr" gpu-check "${quick[@]}" \
+  --sizes 24 --repeat 1 --out "$tmp/none" >/dev/null || fail "the check with no route for HAVS and VICP failed"
+python3 - "$tmp/none/gpu-check.json" <<'PY' || fail "HAVS and VICP were not skipped with the reason, or the rest failed"
+import json, sys
+j = json.load(open(sys.argv[1]))
+assert j["complete"] is True
+skipped = [r for r in j["runs"] if "skipped" in r]
+assert sorted(r["label"] for r in skipped) == ["havs", "vicp"], skipped
+assert all("GL_EXT_shader_framebuffer_fetch" in r["skipped"] for r in skipped)
+assert any(r.get("label") == "raycast-gl-post" and "rmse" in r for r in j["runs"])
+PY
+echo "gpu-check: valid after SIGTERM, stopped by its time limit, a failed scene kept, llvmpipe the emulation, both routes and the skip; every check passed"

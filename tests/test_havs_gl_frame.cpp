@@ -40,7 +40,7 @@ FrameDiff diff(const HavsFrame& gl, const HavsFrame& emu)
 void require_identical(const Scene& s, const Camera& cam, int width, int height, std::initializer_list<int> ks,
                        bool diagnostics = true, GlContext& ctx = osmesa(), std::size_t faces_per_draw = 0,
                        InterpolationMode interpolation = InterpolationMode::gpu,
-                       KBufferAccess access = KBufferAccess::automatic)
+                       FramebufferAccess access = FramebufferAccess::automatic)
 {
     for (int k : test::configurations(ks)) {
         HavsOptions o;
@@ -118,10 +118,10 @@ TEST_CASE("the GL HAVS frame equals the emulated frame bit for bit")
         // shades one pixel's fragments in primitive order without it (docs/gl-backend.md).
         const Scene torus = test::make_scene(load_builtin("builtin:torus-small"), 0);
         require_identical(torus, default_camera(mesh_bounds(torus.mesh), 1.0, 35.0, 40.0), 160, 120, {1, 6, kmax},
-                          true, osmesa(), 0, InterpolationMode::gpu, KBufferAccess::images);
+                          true, osmesa(), 0, InterpolationMode::gpu, FramebufferAccess::images);
         const Scene bf = test::blunt_fin();
         require_identical(bf, default_camera(mesh_bounds(bf.mesh), 1.0, 0.0, 0.0), 256, 192, {6}, false, osmesa(), 0,
-                          InterpolationMode::gpu, KBufferAccess::images);
+                          InterpolationMode::gpu, FramebufferAccess::images);
     }
     SECTION("fields that jump: per-cell vertex data and cell data (a jump face drawn twice, each side's scalars)")
     {

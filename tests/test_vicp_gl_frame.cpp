@@ -42,12 +42,13 @@ VicpOptions options(CellOrder order, float threshold = 1.0f)
 // Renders `cam` with both backends and requires bit identity, in both interpolation modes: the published programs
 // (gpu, the default) and the exact variant.
 void require_identical(const Scene& s, const Camera& cam, int width, int height, VicpOptions o,
-                       GlContext& ctx = osmesa(), std::size_t cells_per_draw = 0)
+                       GlContext& ctx = osmesa(), std::size_t cells_per_draw = 0,
+                       FramebufferAccess access = FramebufferAccess::automatic)
 {
     for (InterpolationMode mode : {InterpolationMode::gpu, InterpolationMode::exact}) {
         o.interpolation = mode;
         const VicpFrame emu = VicpRenderer(s.mesh, s.topo, s.field, s.tf, o).render(cam, width, height);
-        GlVicpRenderer gl(ctx, s.mesh, s.topo, s.field, s.tf, o);
+        GlVicpRenderer gl(ctx, s.mesh, s.topo, s.field, s.tf, o, access);
         gl.set_cells_per_draw(cells_per_draw);
         const VicpFrame frame = gl.render(cam, width, height);
         const FrameDiff d = diff(frame, emu);
@@ -130,6 +131,17 @@ TEST_CASE("the GL VICP frame equals the emulated frame bit for bit")
         const Scene s = test::blunt_fin();
         require_identical(s, default_camera(mesh_bounds(s.mesh), 1.0, 0.0, 0.0), 256, 192, options(CellOrder::mpvonc),
                           osmesa(), 50000);
+    }
+    SECTION("the compositing through image load/store, as on a GPU without framebuffer fetch")
+    {
+        // The desktop route (an interlock around imageLoad / imageStore) with the interlock compiled out: llvmpipe
+        // shades one pixel's fragments in primitive order without it (gpu/gl/gl_fragment_access.h).
+        const Scene torus = test::make_scene(load_builtin("builtin:torus-small"), 0);
+        require_identical(torus, default_camera(mesh_bounds(torus.mesh), 1.0, 35.0, 40.0), 160, 120,
+                          options(CellOrder::mpvonc, 0.99f), osmesa(), 0, FramebufferAccess::images);
+        const Scene s = test::blunt_fin();
+        require_identical(s, default_camera(mesh_bounds(s.mesh), 1.0, 0.0, 0.0), 256, 192, options(CellOrder::mpvonc),
+                          osmesa(), 0, FramebufferAccess::images);
     }
 }
 

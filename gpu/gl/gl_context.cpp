@@ -98,6 +98,13 @@ GlPlatform parse_gl_platform(const std::string& name)
     return parse_choice("--gl", kGlPlatforms, name);
 }
 
+bool GlInfo::hides(const std::string& name) const
+{
+    for (const auto& h : hidden)
+        if (h == name) return true;
+    return false;
+}
+
 bool GlInfo::has_extension(const std::string& name) const
 {
     for (const auto& e : extensions)
@@ -334,9 +341,15 @@ GlContext::GlContext(GlPlatform platform, GlProfile profile, int egl_device) : i
     if (renderer_is_software(info_.renderer)) info_.hardware = false;
     GLint n = 0;
     gl_.GetIntegerv(GL_NUM_EXTENSIONS, &n);
+    if (const char* hide = std::getenv("UVR_GL_HIDE_EXTENSIONS")) {
+        std::istringstream in(hide);
+        for (std::string name; std::getline(in, name, ',');)
+            if (!name.empty()) info_.hidden.push_back(name);
+    }
     for (GLint i = 0; i < n; ++i) {
         const GLubyte* e = gl_.GetStringi(GL_EXTENSIONS, GLuint(i));
-        if (e) info_.extensions.emplace_back(reinterpret_cast<const char*>(e));
+        const std::string name = e ? reinterpret_cast<const char*>(e) : "";
+        if (!name.empty() && !info_.hides(name)) info_.extensions.push_back(name);
     }
     gl_.GetIntegerv(GL_MAX_DRAW_BUFFERS, &info_.max_draw_buffers);
     gl_.GetIntegerv(GL_MAX_COLOR_ATTACHMENTS, &info_.max_color_attachments);

@@ -123,9 +123,13 @@ struct GlInfo {
     bool hardware = false;  // an EGL device that does not say it is software (egl_device_is_software), nor its renderer
     // GL_VENDOR, GL_RENDERER, GL_VERSION, GL_SHADING_LANGUAGE_VERSION
     std::string vendor, renderer, version, glsl_version;
-    std::vector<std::string> extensions;
+    std::vector<std::string> extensions;  // less those UVR_GL_HIDE_EXTENSIONS hides
+    // UVR_GL_HIDE_EXTENSIONS=EXT1,EXT2: uvr behaves as if the context lacked them (queries and the choice of path),
+    // so that every route and every skip is reached on llvmpipe (docs/gpu.md); also names routes (kLlvmpipeImageRoute).
+    std::vector<std::string> hidden;
     int max_draw_buffers = 0, max_color_attachments = 0;
     bool has_extension(const std::string& name) const;
+    bool hides(const std::string& name) const;
     std::string summary() const;  // "llvmpipe (LLVM 15.0.6, 256 bits), 4.5 (Core Profile) Mesa 22.3.6 [osmesa]"
 };
 

@@ -17,8 +17,6 @@ namespace uvr::gpu {
 
 namespace {
 
-constexpr const char* kFramebufferFetch = "GL_EXT_shader_framebuffer_fetch";
-
 int entry_targets(int k) { return (k + 1) / 2; }
 
 // The face constants of one draw, at most: 16 MiB (116,508 faces). Each draw's constants and element indices are
@@ -79,35 +77,12 @@ int GlHavsRenderer::max_k(const GlInfo& info, bool diagnostics)
 }
 
 namespace {
-constexpr const char* kInterlockArb = "GL_ARB_fragment_shader_interlock";
-constexpr const char* kInterlockNv = "GL_NV_fragment_shader_interlock";
-
-// The k-buffer's access path for this context: whether through images, and the interlock's define and extension
-// (empty on llvmpipe, which orders a pixel's fragments without one).
-struct KBufferPath {
-    bool images = false;
-    std::string interlock_define, interlock_extension;
-};
-
-KBufferPath choose_kbuffer_path(const GlInfo& info, KBufferAccess access)
-{
-    if (access != KBufferAccess::images && info.has_extension(kFramebufferFetch)) return {};
-    if (access == KBufferAccess::framebuffer_fetch)
-        throw InputError("", std::string("the GL context (") + info.summary() + ") lacks " + kFramebufferFetch);
-    if (info.has_extension(kInterlockArb)) return {true, "HAVS_INTERLOCK_ARB", kInterlockArb};
-    if (info.has_extension(kInterlockNv)) return {true, "HAVS_INTERLOCK_NV", kInterlockNv};
-    if (access == KBufferAccess::images && info.renderer.find("llvmpipe") != std::string::npos) return {true, "", ""};
-    throw InputError("", std::string("the GL context (") + info.summary() + ") has neither " + kFramebufferFetch +
-                             " nor a fragment-shader interlock (" + kInterlockArb + " or " + kInterlockNv +
-                             "), one of which the GL backend of HAVS needs for its k-buffer (docs/gl-backend.md); use "
-                             "--backend emu");
-}
 
 const HavsOptions& checked_gl_options(const GlContext& ctx, const HavsOptions& o, bool diagnostics,
-                                      KBufferAccess access)
+                                      FramebufferAccess access)
 {
     const GlInfo& info = ctx.info();
-    choose_kbuffer_path(info, access);
+    choose_fragment_access(info, access, "HAVS");
     if (o.segment == SegmentMode::exact)
         throw InputError("", "--segment exact runs only in the emulation (--backend emu): on a GPU the fragment "
                              "program samples the pre-integrated table");
@@ -126,12 +101,12 @@ const HavsOptions& checked_gl_options(const GlContext& ctx, const HavsOptions& o
 
 GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
                                const TransferFunction& tf, const HavsOptions& options, bool diagnostics,
-                               KBufferAccess access)
+                               FramebufferAccess access)
     : ctx_(ctx),
       mesh_(mesh, topo, field, tf, checked_gl_options(ctx, options, diagnostics, access)),
       diagnostics_(diagnostics)
 {
-    const KBufferPath path = choose_kbuffer_path(ctx.info(), access);
+    const FragmentAccessPath path = choose_fragment_access(ctx.info(), access, "HAVS");
     images_ = path.images;
     ctx_.make_current();
     const GlFunctions& gl = ctx_.gl();
@@ -143,15 +118,9 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     if (diagnostics_) defines.push_back({"HAVS_DIAGNOSTICS", "1"});
     if (mesh_.options().entries == EntryEncoding::paper) defines.push_back({"HAVS_PAPER_ENTRIES", "1"});
     std::vector<std::string> extensions;
-    if (!images_) {
-        extensions.push_back(kFramebufferFetch);
-    } else {
-        defines.push_back({"HAVS_KBUFFER_IMAGES", "1"});
-        if (!path.interlock_define.empty()) {
-            defines.push_back({path.interlock_define, "1"});
-            extensions.push_back(path.interlock_extension);
-        }
-    }
+    if (!path.extension.empty()) extensions.push_back(path.extension);
+    if (images_) defines.push_back({"HAVS_KBUFFER_IMAGES", "1"});
+    if (!path.interlock.empty()) defines.push_back({"HAVS_INTERLOCK_" + path.interlock, "1"});
     const std::vector<std::string> files = {"preintegration_table.frag", "havs_fragment.frag", "havs.frag"};
     const bool published = mesh_.options().interpolation == InterpolationMode::gpu;
     std::vector<std::pair<std::string, std::string>> geometry_defines = defines, vertex_defines;

@@ -13,27 +13,21 @@
 #include <memory>
 
 #include "gpu/gl/gl_context.h"
+#include "gpu/gl/gl_fragment_access.h"
 #include "gpu/havs/havs.h"
 
 namespace uvr::gpu {
-
-// How the fragment program reads and writes the k-buffer: framebuffer fetch (GL_EXT_shader_framebuffer_fetch), or
-// image load/store inside a fragment-shader interlock (GL_ARB_ or GL_NV_fragment_shader_interlock: desktop GPUs
-// without fetch). `automatic` takes fetch where the context has it, else the interlock; `images` asks for the images
-// (on llvmpipe without an interlock, which it does not need: docs/gl-backend.md, "The k-buffer without framebuffer
-// fetch").
-enum class KBufferAccess { automatic, framebuffer_fetch, images };
 
 class GlHavsRenderer {
 public:
     // Builds the CPU stage and the GL objects on `ctx` (current on this thread). With `diagnostics`, one more colour
     // attachment carries the per-pixel diagnostics (HavsFrame's fragments, max_held, ordering_errors); without, the
     // frame's diagnostic vectors stay empty and one more attachment is free for entries. Throws InputError when the
-    // context lacks what HAVS needs (framebuffer fetch, or an interlock: see KBufferAccess), when k is outside
+    // context lacks what HAVS needs (framebuffer fetch or the image route: gl_fragment_access.h), when k is outside
     // 1 .. max_k, or with --segment exact (a GPU samples the table; the exact integral is the emulation's).
     GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
                    const TransferFunction& tf, const HavsOptions& options, bool diagnostics = true,
-                   KBufferAccess access = KBufferAccess::automatic);
+                   FramebufferAccess access = FramebufferAccess::automatic);
     ~GlHavsRenderer();
     GlHavsRenderer(const GlHavsRenderer&) = delete;
     GlHavsRenderer& operator=(const GlHavsRenderer&) = delete;
@@ -69,7 +63,7 @@ private:
     GlContext& ctx_;
     HavsMesh mesh_;
     bool diagnostics_;
-    bool images_ = false;  // the k-buffer through image load/store (KBufferAccess)
+    bool images_ = false;  // the k-buffer through image load/store (gl_fragment_access.h)
     std::size_t faces_per_draw_ = 0;
     TriangleSubmission submission_ = TriangleSubmission::covered;
     std::unique_ptr<Objects> gl_;

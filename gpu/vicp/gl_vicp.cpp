@@ -19,8 +19,6 @@ namespace uvr::gpu {
 
 namespace {
 
-constexpr const char* kFramebufferFetch = "GL_EXT_shader_framebuffer_fetch";
-
 // The storage buffers of shaders/vicp.vert, by binding.
 enum Binding : GLuint { kStream = 0, kPointsF = 1, kPointsD = 2, kScalars = 3, kSnapped = 4, kFans = 5, kBindings = 6 };
 
@@ -34,12 +32,10 @@ GLint64 max_block_bytes(const GlContext& ctx)
 }
 
 const VicpOptions& checked_gl_options(const GlContext& ctx, const TetMesh& mesh, std::size_t field,
-                                      const VicpOptions& o)
+                                      const VicpOptions& o, FramebufferAccess access)
 {
     const GlInfo& info = ctx.info();
-    if (!info.has_extension(kFramebufferFetch))
-        throw InputError("", std::string("the GL context (") + info.summary() + ") lacks " + kFramebufferFetch +
-                                 ", which the GL backend of VICP needs (docs/vicp.md); use --backend emu");
+    choose_fragment_access(info, access, "VICP");
     GLint blocks = 0;
     ctx.gl().GetIntegerv(GL_MAX_VERTEX_SHADER_STORAGE_BLOCKS, &blocks);
     if (blocks < GLint(kBindings))
@@ -107,17 +103,26 @@ std::size_t GlVicpRenderer::cells_per_draw() const
 }
 
 GlVicpRenderer::GlVicpRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
-                               const TransferFunction& tf, const VicpOptions& options)
-    : ctx_(ctx), mesh_(mesh, topo, field, tf, checked_gl_options(ctx, mesh, field, options))
+                               const TransferFunction& tf, const VicpOptions& options, FramebufferAccess access)
+    : ctx_(ctx),
+      mesh_(mesh, topo, field, tf, checked_gl_options(ctx, mesh, field, options, access)),
+      access_(choose_fragment_access(ctx.info(), access, "VICP"))
 {
     ctx_.make_current();
     const GlFunctions& gl = ctx_.gl();
     gl_ = std::make_unique<Objects>(gl);
+    // The compositing's route (shaders/vicp_framebuffer.frag).
+    std::vector<std::pair<std::string, std::string>> defines;
+    if (access_.images) defines.push_back({"VICP_IMAGES", "1"});
+    if (!access_.interlock.empty()) defines.push_back({"VICP_INTERLOCK_" + access_.interlock, "1"});
+    std::vector<std::string> extensions;
+    if (!access_.extension.empty()) extensions.push_back(access_.extension);
     gl_->program = std::make_unique<GlProgram>(
         ctx_, GlShaderSource{{"clip_position.vert", "vicp_tet.glsl", "vicp_vertex.vert", "vicp.vert"}, {}, {}},
-        GlShaderSource{{"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp.frag"},
-                       {},
-                       {kFramebufferFetch}});
+        GlShaderSource{
+            {"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp_framebuffer.frag", "vicp.frag"},
+            defines,
+            extensions});
     if (mesh_.options().interpolation == InterpolationMode::gpu) {
         gl_->published_program = std::make_unique<GlProgram>(
             ctx_,
@@ -126,9 +131,9 @@ GlVicpRenderer::GlVicpRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
                 {},
                 {}},
             GlShaderSource{{"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp_published.glsl",
-                            "vicp_published_fragment.frag", "vicp_published.frag"},
-                           {},
-                           {kFramebufferFetch}});
+                            "vicp_published_fragment.frag", "vicp_framebuffer.frag", "vicp_published.frag"},
+                           defines,
+                           extensions});
         gl.GenVertexArrays(1, &gl_->published_vao);
         gl.GenBuffers(1, &gl_->published_vbo);
         gl.BindVertexArray(gl_->published_vao);
@@ -305,6 +310,13 @@ void GlVicpRenderer::prepare_frame(const VicpFrameSetup& fs, const Camera& cam, 
     const float zero[4] = {0, 0, 0, 0};
     gl.ClearBufferfv(GL_COLOR, 0, zero);
     gl.ClearBufferfv(GL_COLOR, 1, zero);
+    if (access_.images) {
+        // The attachments as images (unit i for attachment i); the draws write no colour output, so the colour mask
+        // keeps the framebuffer from writing undefined values over them.
+        for (int i = 0; i < 2; ++i)
+            gl.BindImageTexture(GLuint(i), gl_->framebuffer->texture(i), 0, GL_FALSE, 0, GL_READ_WRITE, GL_RGBA32F);
+        gl.ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    }
     // Each program's uniforms, once a frame (a program keeps its own).
     gl.UseProgram(gl_->program->id());
     set_vicp_frame_uniforms(ctx_, *gl_->program, fs.constants);
@@ -345,6 +357,10 @@ void GlVicpRenderer::draw_cells(const VicpFrameSetup& fs, VicpStats& st)
     }
     const auto t0 = Clock::now();
     gl.Finish();
+    if (access_.images) {
+        gl.MemoryBarrier(GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);  // for glReadPixels
+        gl.ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    }
     ctx_.check_error("the VICP draw");
     st.raster_fragment_ms += ms_since(t0);
     gl.BindVertexArray(0);

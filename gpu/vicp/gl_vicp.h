@@ -12,17 +12,20 @@
 #include <memory>
 
 #include "gpu/gl/gl_context.h"
+#include "gpu/gl/gl_fragment_access.h"
 #include "gpu/vicp/vicp.h"
 
 namespace uvr::gpu {
 
 class GlVicpRenderer {
 public:
-    // Builds the CPU stage and the GL objects on `ctx` (current on this thread). Throws InputError when the context
-    // lacks what VICP needs (GL_EXT_shader_framebuffer_fetch, storage buffers in the vertex stage), when the mesh's
-    // points exceed one storage block, or with --segment exact (a GPU samples the table).
+    // Builds the CPU stage and the GL objects on `ctx` (current on this thread). `access`: how the compositing reads
+    // its pixel (gl_fragment_access.h). Throws InputError when the context lacks what VICP needs (framebuffer fetch or
+    // the image route, storage buffers in the vertex stage), when the mesh's points exceed one storage block, or with
+    // --segment exact (a GPU samples the table).
     GlVicpRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
-                   const TransferFunction& tf, const VicpOptions& options);
+                   const TransferFunction& tf, const VicpOptions& options,
+                   FramebufferAccess access = FramebufferAccess::automatic);
     ~GlVicpRenderer();
     GlVicpRenderer(const GlVicpRenderer&) = delete;
     GlVicpRenderer& operator=(const GlVicpRenderer&) = delete;
@@ -59,6 +62,7 @@ private:
     VicpMesh mesh_;
     std::size_t cells_per_draw_ = 0;
     TriangleSubmission submission_ = TriangleSubmission::covered;
+    FragmentAccessPath access_;  // framebuffer fetch, or the image route (gl_fragment_access.h)
     std::unique_ptr<Objects> gl_;
 };
 
