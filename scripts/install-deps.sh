@@ -9,6 +9,8 @@ packages=(
   python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib chromium
   # the sanitizer build's compiler and its runtime libraries (scripts/test-sanitize.sh); LLVM's linker (CMakeLists.txt)
   clang libclang-rt-14-dev lld
+  # the offline GLSL compiler that checks the shader variants no machine here runs (tests/test_glsl_variants.cpp)
+  glslang-tools
 )
 missing=()
 for p in "${packages[@]}"; do

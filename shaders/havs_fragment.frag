@@ -184,10 +184,11 @@ vec4 havs_shade(float u_front, float u_back, float t_z, float seg_length);
 
 // The flush fragment's distance: +inf, or with --entries paper 2^60, the distance the paper's program computes for the
 // ARB witness's flush quads (kPaperFlushFragment); a real entry lies nearer.
+// (Macros, not constants: a call of uintBitsToFloat is no constant expression to every compiler.)
 #ifdef HAVS_PAPER_ENTRIES
-const float havs_flush_distance = uintBitsToFloat(0x5d800000u);
+#define havs_flush_distance uintBitsToFloat(0x5d800000u)
 #else
-const float havs_flush_distance = uintBitsToFloat(0x7f800000u);
+#define havs_flush_distance uintBitsToFloat(0x7f800000u)
 #endif
 bool havs_real_entry(vec2 e) { return e.y > 0.0 && e.y < havs_flush_distance; }
 

@@ -24,7 +24,7 @@ const double vicp_parallel_face = 1e-12lf;
 struct VicpSegment {
     double s_front, s_back;
     double t_in, t_out;
-    double length;
+    double chord;  // its length (not `length`, which some compilers take for the method)
 };
 
 // The clamp to [0, 1] written as the emulation's ternaries (GLSL's clamp() leaves NaN handling open).
@@ -92,10 +92,10 @@ VicpSegment vicp_fragment_values(VicpTet tet, ivec2 pix)
     seg.s_back = vicp_clamp01(s_out);
     precise double t_in_w = t_in * scale;
     precise double t_out_w = t_out * scale;
-    precise double length = (t_out - t_in) * scale;
+    precise double chord = (t_out - t_in) * scale;  // not `length`: a local of that name hides the built-in
     seg.t_in = t_in_w;
     seg.t_out = t_out_w;
-    seg.length = length;
+    seg.chord = chord;
     return seg;
 }
 
@@ -111,15 +111,15 @@ bool vicp_composite(VicpSegment seg, inout vec4 fb, inout vec4 diag)
     // KIL (threshold - alpha).
     precise float kill = vicp_threshold - fb.a;
     if (kill < 0.0) return false;
-    float length = float(seg.length);
+    float chord = float(seg.chord);
     vec4 c = vec4(0.0);
-    if (length > 0.0) {
-        precise float t_z = length * vicp_length_scale + vicp_length_bias;
-        c = vicp_shade(float(seg.s_front), float(seg.s_back), t_z, length);
+    if (chord > 0.0) {
+        precise float t_z = chord * vicp_length_scale + vicp_length_bias;
+        c = vicp_shade(float(seg.s_front), float(seg.s_back), t_z, chord);
     }
     precise float fragments = diag.x + 1.0;
     diag.x = fragments;
-    if (length > 0.0) {
+    if (chord > 0.0) {
         float front = float(seg.t_in), back = float(seg.t_out);
         if (back <= diag.w) {
             precise float errors = diag.y + 1.0;

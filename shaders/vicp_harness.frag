@@ -26,7 +26,7 @@ void main()
     if (i >= harness_count) return;
     vec4 a = harness_published_varyings[2 * i], b = harness_published_varyings[2 * i + 1];
     VicpPublishedExit e = vicp_published_exit(a.xyz, b.xyz, a.w);
-    harness_published_exits[i] = vec4(e.s_front, e.s_back, e.length, float(e.face));
+    harness_published_exits[i] = vec4(e.s_front, e.s_back, e.chord, float(e.face));
 }
 
 #elif defined(HARNESS_VALUES)
@@ -69,7 +69,7 @@ void main()
     harness_segments[5 * i + 1] = s.s_back;
     harness_segments[5 * i + 2] = s.t_in;
     harness_segments[5 * i + 3] = s.t_out;
-    harness_segments[5 * i + 4] = s.length;
+    harness_segments[5 * i + 4] = s.chord;
 }
 
 #elif defined(HARNESS_COMPOSITE)
@@ -113,7 +113,7 @@ void main()
     s.s_back = c.segment[1];
     s.t_in = c.segment[2];
     s.t_out = c.segment[3];
-    s.length = c.segment[4];
+    s.chord = c.segment[4];
     vec4 fb = c.framebuffer, diag = c.diagnostics;
     HarnessCompositeResult r;
     r.written = vicp_composite(s, fb, diag) ? 1u : 0u;

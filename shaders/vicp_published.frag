@@ -23,10 +23,10 @@ void main()
     seg.s_front = double(e.s_front);
     seg.s_back = double(e.s_back);
     precise double t_in = double(vicp_published_entry_distance(vicp_published_entry));
-    precise double t_out = t_in + double(e.length);
+    precise double t_out = t_in + double(e.chord);
     seg.t_in = t_in;
     seg.t_out = t_out;
-    seg.length = double(e.length);
+    seg.chord = double(e.chord);
     vicp_begin_interlock();
     vec4 fb = vicp_load_color(), diag = vicp_load_diagnostics();
     if (gl_FrontFacing) vicp_composite(seg, fb, diag);  // killed: fb and diag are as read

@@ -5,7 +5,7 @@
 struct VicpPublishedExit {
     int face;  // 0..2, or -1: no distance is positive (length 0)
     float s_front, s_back;
-    float length;
+    float chord;  // its length (not `length`, which some compilers take for the method)
 };
 
 float vicp_published_clamp01(float x)
@@ -18,12 +18,12 @@ VicpPublishedExit vicp_published_exit(vec3 distance, vec3 scalar, float s)
 {
     VicpPublishedExit e;
     e.face = -1;
-    e.length = 0.0;
+    e.chord = 0.0;
     for (int i = 0; i < 3; ++i) {
         float d = distance[i];
-        if (d > 0.0 && (e.face < 0 || d < e.length)) {
+        if (d > 0.0 && (e.face < 0 || d < e.chord)) {
             e.face = i;
-            e.length = d;
+            e.chord = d;
         }
     }
     e.s_front = vicp_published_clamp01(s);

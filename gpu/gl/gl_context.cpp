@@ -468,6 +468,15 @@ void assemble(const GlShaderSource& src, std::vector<std::string>& strings, std:
 
 }  // namespace
 
+std::string assembled_source(const GlShaderSource& src)
+{
+    std::vector<std::string> strings, names;
+    assemble(src, strings, names);
+    std::string text;
+    for (const std::string& s : strings) text += s;
+    return text;
+}
+
 GlProgram::GlProgram(const GlContext& ctx, const GlShaderSource& vertex, const GlShaderSource& fragment) : ctx_(ctx)
 {
     const GlFunctions& gl = ctx.gl();

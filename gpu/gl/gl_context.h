@@ -193,6 +193,9 @@ struct GlShaderSource {
     std::vector<std::string> extensions;                         // each becomes `#extension NAME : require`
 };
 
+// The stage's source as one text, as GlProgram hands it to the driver (for offline compilers).
+std::string assembled_source(const GlShaderSource& src);
+
 // A linked program. Throws InputError naming the shader file(s), with the GLSL log, when compiling or linking fails.
 class GlProgram {
 public:

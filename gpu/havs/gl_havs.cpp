@@ -99,6 +99,31 @@ const HavsOptions& checked_gl_options(const GlContext& ctx, const HavsOptions& o
 }
 }  // namespace
 
+GlHavsRenderer::HavsProgramSources GlHavsRenderer::program_sources(int k, bool diagnostics, bool paper_entries,
+                                                                   bool published, const FragmentAccessPath& path)
+{
+    std::vector<std::pair<std::string, std::string>> defines = {
+        {"HAVS_K", std::to_string(k)}, {"HAVS_TARGETS", std::to_string(entry_targets(k))}};
+    if (diagnostics) defines.push_back({"HAVS_DIAGNOSTICS", "1"});
+    if (paper_entries) defines.push_back({"HAVS_PAPER_ENTRIES", "1"});
+    std::vector<std::string> extensions;
+    if (!path.extension.empty()) extensions.push_back(path.extension);
+    if (path.images) defines.push_back({"HAVS_KBUFFER_IMAGES", "1"});
+    if (!path.interlock.empty()) defines.push_back({"HAVS_INTERLOCK_" + path.interlock, "1"});
+    const std::vector<std::string> files = {"preintegration_table.frag", "havs_fragment.frag", "havs.frag"};
+    std::vector<std::pair<std::string, std::string>> geometry_defines = defines, vertex_defines;
+    if (published) {
+        geometry_defines.push_back({"HAVS_PAPER_VARYINGS", "1"});
+        vertex_defines.push_back({"HAVS_PAPER_VARYINGS", "1"});
+    }
+    std::vector<std::pair<std::string, std::string>> flush_defines = defines;
+    flush_defines.push_back({"HAVS_PASS_FLUSH", "1"});
+    return {{{"clip_position.vert", "havs_vertex.vert"}, vertex_defines, {}},
+            {files, geometry_defines, extensions},
+            {{"fullscreen.vert"}, {}, {}},
+            {files, flush_defines, extensions}};
+}
+
 GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
                                const TransferFunction& tf, const HavsOptions& options, bool diagnostics,
                                FramebufferAccess access)
@@ -113,27 +138,11 @@ GlHavsRenderer::GlHavsRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     gl_ = std::make_unique<Objects>(gl);
     const int k = mesh_.options().k;
 
-    std::vector<std::pair<std::string, std::string>> defines = {
-        {"HAVS_K", std::to_string(k)}, {"HAVS_TARGETS", std::to_string(entry_targets(k))}};
-    if (diagnostics_) defines.push_back({"HAVS_DIAGNOSTICS", "1"});
-    if (mesh_.options().entries == EntryEncoding::paper) defines.push_back({"HAVS_PAPER_ENTRIES", "1"});
-    std::vector<std::string> extensions;
-    if (!path.extension.empty()) extensions.push_back(path.extension);
-    if (images_) defines.push_back({"HAVS_KBUFFER_IMAGES", "1"});
-    if (!path.interlock.empty()) defines.push_back({"HAVS_INTERLOCK_" + path.interlock, "1"});
-    const std::vector<std::string> files = {"preintegration_table.frag", "havs_fragment.frag", "havs.frag"};
-    const bool published = mesh_.options().interpolation == InterpolationMode::gpu;
-    std::vector<std::pair<std::string, std::string>> geometry_defines = defines, vertex_defines;
-    if (published) {
-        geometry_defines.push_back({"HAVS_PAPER_VARYINGS", "1"});
-        vertex_defines.push_back({"HAVS_PAPER_VARYINGS", "1"});
-    }
-    gl_->geometry = std::make_unique<GlProgram>(
-        ctx_, GlShaderSource{{"clip_position.vert", "havs_vertex.vert"}, vertex_defines, {}},
-        GlShaderSource{files, geometry_defines, extensions});
-    defines.push_back({"HAVS_PASS_FLUSH", "1"});
-    gl_->flush = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"fullscreen.vert"}, {}, {}},
-                                             GlShaderSource{files, defines, extensions});
+    const HavsProgramSources src =
+        program_sources(k, diagnostics_, mesh_.options().entries == EntryEncoding::paper,
+                        mesh_.options().interpolation == InterpolationMode::gpu, path);
+    gl_->geometry = std::make_unique<GlProgram>(ctx_, src.geometry_vertex, src.geometry_fragment);
+    gl_->flush = std::make_unique<GlProgram>(ctx_, src.flush_vertex, src.flush_fragment);
 
     // The vertex buffer (the frame's float positions relative to the eye, filled each frame) and the element buffer,
     // in one vertex array.

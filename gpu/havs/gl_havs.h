@@ -29,6 +29,14 @@ public:
                    const TransferFunction& tf, const HavsOptions& options, bool diagnostics = true,
                    FramebufferAccess access = FramebufferAccess::automatic);
     ~GlHavsRenderer();
+
+    // The geometry and flush programs' sources for k, the diagnostics, the entries' encoding, the interpolation and
+    // the route (what the constructor compiles; tests compile every route's variant offline).
+    struct HavsProgramSources {
+        GlShaderSource geometry_vertex, geometry_fragment, flush_vertex, flush_fragment;
+    };
+    static HavsProgramSources program_sources(int k, bool diagnostics, bool paper_entries, bool published,
+                                              const FragmentAccessPath& path);
     GlHavsRenderer(const GlHavsRenderer&) = delete;
     GlHavsRenderer& operator=(const GlHavsRenderer&) = delete;
 

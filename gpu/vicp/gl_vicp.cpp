@@ -102,6 +102,25 @@ std::size_t GlVicpRenderer::cells_per_draw() const
     return std::max<std::size_t>(1, std::size_t(max_block_bytes(ctx_)) / sizeof(VicpCell));
 }
 
+GlVicpRenderer::VicpProgramSources GlVicpRenderer::program_sources(const FragmentAccessPath& path)
+{
+    // The compositing's route (shaders/vicp_framebuffer.frag).
+    std::vector<std::pair<std::string, std::string>> defines;
+    if (path.images) defines.push_back({"VICP_IMAGES", "1"});
+    if (!path.interlock.empty()) defines.push_back({"VICP_INTERLOCK_" + path.interlock, "1"});
+    std::vector<std::string> extensions;
+    if (!path.extension.empty()) extensions.push_back(path.extension);
+    return {{{"clip_position.vert", "vicp_tet.glsl", "vicp_vertex.vert", "vicp.vert"}, {}, {}},
+            {{"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp_framebuffer.frag", "vicp.frag"},
+             defines,
+             extensions},
+            {{"clip_position.vert", "vicp_published.glsl", "vicp_published_vertex.vert", "vicp_published.vert"}, {}, {}},
+            {{"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp_published.glsl",
+              "vicp_published_fragment.frag", "vicp_framebuffer.frag", "vicp_published.frag"},
+             defines,
+             extensions}};
+}
+
 GlVicpRenderer::GlVicpRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTopology& topo, std::size_t field,
                                const TransferFunction& tf, const VicpOptions& options, FramebufferAccess access)
     : ctx_(ctx),
@@ -111,29 +130,10 @@ GlVicpRenderer::GlVicpRenderer(GlContext& ctx, const TetMesh& mesh, const MeshTo
     ctx_.make_current();
     const GlFunctions& gl = ctx_.gl();
     gl_ = std::make_unique<Objects>(gl);
-    // The compositing's route (shaders/vicp_framebuffer.frag).
-    std::vector<std::pair<std::string, std::string>> defines;
-    if (access_.images) defines.push_back({"VICP_IMAGES", "1"});
-    if (!access_.interlock.empty()) defines.push_back({"VICP_INTERLOCK_" + access_.interlock, "1"});
-    std::vector<std::string> extensions;
-    if (!access_.extension.empty()) extensions.push_back(access_.extension);
-    gl_->program = std::make_unique<GlProgram>(
-        ctx_, GlShaderSource{{"clip_position.vert", "vicp_tet.glsl", "vicp_vertex.vert", "vicp.vert"}, {}, {}},
-        GlShaderSource{
-            {"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp_framebuffer.frag", "vicp.frag"},
-            defines,
-            extensions});
+    const VicpProgramSources src = program_sources(access_);
+    gl_->program = std::make_unique<GlProgram>(ctx_, src.exact_vertex, src.exact_fragment);
     if (mesh_.options().interpolation == InterpolationMode::gpu) {
-        gl_->published_program = std::make_unique<GlProgram>(
-            ctx_,
-            GlShaderSource{
-                {"clip_position.vert", "vicp_published.glsl", "vicp_published_vertex.vert", "vicp_published.vert"},
-                {},
-                {}},
-            GlShaderSource{{"vicp_tet.glsl", "preintegration_table.frag", "vicp_fragment.frag", "vicp_published.glsl",
-                            "vicp_published_fragment.frag", "vicp_framebuffer.frag", "vicp_published.frag"},
-                           defines,
-                           extensions});
+        gl_->published_program = std::make_unique<GlProgram>(ctx_, src.published_vertex, src.published_fragment);
         gl.GenVertexArrays(1, &gl_->published_vao);
         gl.GenBuffers(1, &gl_->published_vbo);
         gl.BindVertexArray(gl_->published_vao);

@@ -27,6 +27,13 @@ public:
                    const TransferFunction& tf, const VicpOptions& options,
                    FramebufferAccess access = FramebufferAccess::automatic);
     ~GlVicpRenderer();
+
+    // The exact and the published programs' sources for a route (what the constructor compiles; tests compile every
+    // route's variant offline).
+    struct VicpProgramSources {
+        GlShaderSource exact_vertex, exact_fragment, published_vertex, published_fragment;
+    };
+    static VicpProgramSources program_sources(const FragmentAccessPath& path);
     GlVicpRenderer(const GlVicpRenderer&) = delete;
     GlVicpRenderer& operator=(const GlVicpRenderer&) = delete;
 
