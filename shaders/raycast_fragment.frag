@@ -38,7 +38,7 @@ struct RaycastRay {
     int samples;
     vec3 tex0, dtex, tex_exit;
     float last_length;
-    double length;
+    double span;  // its length (not `length`, which some compilers take for the method)
     dvec3 entry, dir;
 };
 
@@ -47,7 +47,7 @@ struct RaycastRayExact {
     int samples;
     dvec3 tex0, dtex, tex_exit;
     double last_length;
-    double length;
+    double span;  // its length (not `length`, which some compilers take for the method)
     dvec3 entry, dir;
 };
 
@@ -59,7 +59,7 @@ RaycastRayExact raycast_ray_exact(ivec2 pix)
     ray.dtex = dvec3(0.0lf);
     ray.tex_exit = dvec3(0.0lf);
     ray.last_length = 0.0lf;
-    ray.length = 0.0lf;
+    ray.span = 0.0lf;
     ray.entry = dvec3(0.0lf);
     ray.dir = dvec3(0.0lf);
     precise double ndc_x = (double(pix.x) + 0.5lf) * rc_two_over_width - 1.0lf;
@@ -86,14 +86,14 @@ RaycastRayExact raycast_ray_exact(ivec2 pix)
     }
     if (!(t_out > t_in)) return ray;
     precise double scale = sqrt((d.x * d.x + d.y * d.y) + d.z * d.z);
-    precise double length = (t_out - t_in) * scale;
+    precise double chord = (t_out - t_in) * scale;
     // n = ceil(L / step), at most rc_max_samples.
-    precise double q = length / rc_step;
+    precise double q = chord / rc_step;
     int n = q < double(rc_max_samples) ? int(q) : rc_max_samples;
     if (double(n) < q && n < rc_max_samples) n += 1;
     if (n == 0) return ray;
     ray.samples = n;
-    ray.length = length;
+    ray.span = chord;
     for (int i = 0; i < 3; ++i) {
         precise double entry = o[i] + t_in * d[i];
         precise double exit_ = o[i] + t_out * d[i];
@@ -107,7 +107,7 @@ RaycastRayExact raycast_ray_exact(ivec2 pix)
         ray.entry[i] = entry;
         ray.dir[i] = dir;
     }
-    precise double last = length - double(n - 1) * rc_step;
+    precise double last = chord - double(n - 1) * rc_step;
     ray.last_length = last;
     return ray;
 }
@@ -122,7 +122,7 @@ RaycastRay raycast_ray(ivec2 pix)
     ray.dtex = vec3(e.dtex);
     ray.tex_exit = vec3(e.tex_exit);
     ray.last_length = float(e.last_length);
-    ray.length = e.length;
+    ray.span = e.span;
     ray.entry = e.entry;
     ray.dir = e.dir;
     return ray;
@@ -138,7 +138,7 @@ RaycastRay raycast_ray_published(vec4 front, vec4 back)
     ray.dtex = vec3(0.0);
     ray.tex_exit = vec3(0.0);
     ray.last_length = 0.0;
-    ray.length = 0.0lf;
+    ray.span = 0.0lf;
     ray.entry = dvec3(0.0lf);
     ray.dir = dvec3(0.0lf);
     if (front.w == 0.0 || back.w == 0.0) return ray;
@@ -157,7 +157,7 @@ RaycastRay raycast_ray_published(vec4 front, vec4 back)
     if (double(n) < q && n < rc_max_samples) n += 1;
     if (n == 0) return ray;
     ray.samples = n;
-    ray.length = double(len);
+    ray.span = double(len);
     precise float scale = rsq * rc_step_f;
     precise vec3 dtex = vec3(d.x * scale, d.y * scale, d.z * scale);
     ray.dtex = dtex;
@@ -298,7 +298,7 @@ vec4 raycast_march(RaycastRay ray, out float samples)
         samples += 1.0;
         if (seg_length > 0.0) {
             precise float t_z = seg_length * rc_length_scale + rc_length_bias;
-            precise double t = last ? ray.length : double(k) * rc_step;
+            precise double t = last ? ray.span : double(k) * rc_step;
             vec4 c = raycast_shaded(raycast_segment(previous, x, t_z, seg_length), ray, p, t);
             raycast_composite(acc, c);
         }

@@ -22,7 +22,7 @@ vec4 raycast_segment(float x_front, float x_back, float t_z, float seg_length)
 
 struct HarnessRayExact {
     double tex0[3], dtex[3], tex_exit[3];
-    double last_length, length;
+    double last_length, span;
     double entry[3], dir[3];
     int samples, pad;
 };
@@ -43,7 +43,7 @@ void main()
         r.dir[k] = e.dir[k];
     }
     r.last_length = e.last_length;
-    r.length = e.length;
+    r.span = e.span;
     r.samples = e.samples;
     r.pad = 0;
     harness_rays[i] = r;
@@ -52,7 +52,7 @@ void main()
 #elif defined(HARNESS_MARCH)
 
 struct HarnessRay {
-    double length, entry[3], dir[3];
+    double span, entry[3], dir[3];
     float tex0[3], dtex[3], tex_exit[3], last_length;
     int samples;
     float pad;
@@ -75,7 +75,7 @@ void main()
     ray.dtex = vec3(h.dtex[0], h.dtex[1], h.dtex[2]);
     ray.tex_exit = vec3(h.tex_exit[0], h.tex_exit[1], h.tex_exit[2]);
     ray.last_length = h.last_length;
-    ray.length = h.length;
+    ray.span = h.span;
     ray.entry = dvec3(h.entry[0], h.entry[1], h.entry[2]);
     ray.dir = dvec3(h.dir[0], h.dir[1], h.dir[2]);
     HarnessMarchResult r;
@@ -87,7 +87,7 @@ void main()
 #elif defined(HARNESS_RAY_PUBLISHED)
 
 struct HarnessRay {
-    double length, entry[3], dir[3];
+    double span, entry[3], dir[3];
     float tex0[3], dtex[3], tex_exit[3], last_length;
     int samples;
     float pad;
@@ -101,7 +101,7 @@ void main()
     if (i >= harness_count) return;
     RaycastRay ray = raycast_ray_published(harness_texels[2 * i], harness_texels[2 * i + 1]);
     HarnessRay h;
-    h.length = ray.length;
+    h.span = ray.span;
     for (int k = 0; k < 3; ++k) {
         h.entry[k] = ray.entry[k];
         h.dir[k] = ray.dir[k];
@@ -135,7 +135,7 @@ void main()
     ray.dtex = vec3(0.0);
     ray.tex_exit = vec3(0.0);
     ray.last_length = 0.0;
-    ray.length = 0.0lf;
+    ray.span = 0.0lf;
     ray.entry = dvec3(c.entry[0], c.entry[1], c.entry[2]);
     ray.dir = dvec3(c.dir[0], c.dir[1], c.dir[2]);
     dvec2 f = raycast_light_factors(ray, c.t, vec3(c.g[0], c.g[1], c.g[2]));

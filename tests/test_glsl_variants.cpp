@@ -1,6 +1,6 @@
 // HAVS's and VICP's programs compile on the image route with the ARB interlock (gpu/gl/gl_fragment_access.h), which
 // no machine here runs (llvmpipe has none), compiled offline by Debian's glslangValidator beside llvmpipe's image
-// route, which the GL tests also run. Debian 12's glslang (12.0) does not know GL_NV_fragment_shader_interlock, so the
+// route, which the GL tests also run; and the ray caster's programs. Debian 12's glslang (12.0) does not know GL_NV_fragment_shader_interlock, so the
 // NV variant (the same text with NV's names) is not compiled here.
 #include <cstdio>
 #include <cstdlib>
@@ -10,6 +10,7 @@
 #include "gpu/gl/gl_context.h"
 #include "gpu/gl/gl_fragment_access.h"
 #include "gpu/havs/gl_havs.h"
+#include "gpu/raycast/gl_raycast.h"
 #include "gpu/vicp/gl_vicp.h"
 #include "test_support.h"
 
@@ -66,3 +67,22 @@ TEST_CASE("HAVS's and VICP's programs compile on the image route with the ARB in
         }
     }
 }
+
+TEST_CASE("the ray caster's programs compile in glslang, published passes or not, lit or not")
+{
+    REQUIRE(std::system("glslangValidator --version > /dev/null 2>&1") == 0);
+    TempDir tmp("glsl-raycast");
+    int n = 0;
+    for (const bool published : {false, true})
+        for (const bool light : {false, true}) {
+            const auto src = GlRaycastRenderer::program_sources(published, light);
+            for (const auto& [stage, s] :
+                 {std::pair{"march.frag", &src.march_fragment}, std::pair{"march.vert", &src.march_vertex},
+                  std::pair{"box.frag", &src.box_fragment}, std::pair{"box.vert", &src.box_vertex}}) {
+                INFO("ray caster" << (published ? ", the published passes" : "") << (light ? ", lit" : "") << ": "
+                                  << stage);
+                CHECK(compile(tmp, "raycast" + std::to_string(n++) + "-" + stage, *s) == "");
+            }
+        }
+}
+

@@ -132,6 +132,19 @@ struct GlRaycastRenderer::Objects {
     }
 };
 
+GlRaycastRenderer::RaycastProgramSources GlRaycastRenderer::program_sources(bool published, bool light)
+{
+    const GlShaderSource box_vertex{{"clip_position.vert", "raycast_box.vert"}, {}, {}};
+    GlShaderSource march{{"classification_table.frag", "preintegration_table.frag", "raycast_fragment.frag",
+                          "raycast.frag"},
+                         {},
+                         {}};
+    if (light) march.defines.push_back({"RAYCAST_SHADE", "1"});
+    if (published) march.defines.push_back({"RAYCAST_PUBLISHED_PASSES", "1"});
+    return {published ? box_vertex : GlShaderSource{{"fullscreen.vert"}, {}, {}}, march, box_vertex,
+            GlShaderSource{{"raycast_box.frag"}, {}, {}}};
+}
+
 GlRaycastRenderer::GlRaycastRenderer(GlContext& ctx, const Volume& volume, const TransferFunction& tf,
                                      const RaycastOptions& options)
     : ctx_(ctx), volume_(volume, tf, checked_gl_options(ctx, volume, options))
@@ -139,20 +152,12 @@ GlRaycastRenderer::GlRaycastRenderer(GlContext& ctx, const Volume& volume, const
     ctx_.make_current();
     gl_ = std::make_unique<Objects>(ctx_.gl());
     const bool published = volume_.options().interpolation == InterpolationMode::gpu;
-    const GlShaderSource box_vertex{{"clip_position.vert", "raycast_box.vert"}, {}, {}};
-    GlShaderSource march{{"classification_table.frag", "preintegration_table.frag", "raycast_fragment.frag",
-                          "raycast.frag"},
-                         {},
-                         {}};
-    if (volume_.options().light) march.defines.push_back({"RAYCAST_SHADE", "1"});
+    const RaycastProgramSources src = program_sources(published, volume_.options().light.has_value());
+    gl_->program = std::make_unique<GlProgram>(ctx_, src.march_vertex, src.march_fragment);
     if (published) {
-        march.defines.push_back({"RAYCAST_PUBLISHED_PASSES", "1"});
-        gl_->program = std::make_unique<GlProgram>(ctx_, box_vertex, march);
-        gl_->box_program = std::make_unique<GlProgram>(ctx_, box_vertex, GlShaderSource{{"raycast_box.frag"}, {}, {}});
+        gl_->box_program = std::make_unique<GlProgram>(ctx_, src.box_vertex, src.box_fragment);
         gl_->positions = std::make_unique<GlFloatFramebuffer>(ctx_, 2, "the ray caster's entry and exit targets",
                                                               GlFloatFramebuffer::Depth::d24);
-    } else {
-        gl_->program = std::make_unique<GlProgram>(ctx_, GlShaderSource{{"fullscreen.vert"}, {}, {}}, march);
     }
     const GlFunctions& gl = ctx_.gl();
     gl.GenVertexArrays(1, &gl_->vao);

@@ -27,6 +27,13 @@ public:
     // Throws InputError when the context cannot hold the volume texture or --segment exact is asked for.
     GlRaycastRenderer(GlContext& ctx, const Volume& volume, const TransferFunction& tf, const RaycastOptions& options);
     ~GlRaycastRenderer();
+
+    // The march's program (after the published box passes, or on a full-screen triangle) and the box passes' program,
+    // with the light or without (what the constructor compiles; tests compile them offline).
+    struct RaycastProgramSources {
+        GlShaderSource march_vertex, march_fragment, box_vertex, box_fragment;
+    };
+    static RaycastProgramSources program_sources(bool published, bool light);
     GlRaycastRenderer(const GlRaycastRenderer&) = delete;
     GlRaycastRenderer& operator=(const GlRaycastRenderer&) = delete;
 
