@@ -337,11 +337,12 @@ bool terminates_no_ray(const std::string& dir, const nlohmann::json& baseline, d
     return true;
 }
 
-// One run of the budget, measured against `against`: copied where an earlier run had its switches (remeasured where
-// that run was measured against another image), the ray caster's termination copied from the baseline where it
-// stops no ray, rendered otherwise.
+// One run of the budget, measured against `against` (named `against_name` in its JSON): copied where an earlier run
+// had its switches, and measured again where that run was measured against another image; the ray caster's
+// termination copied from the baseline where it stops no ray; rendered otherwise.
 nlohmann::json budget_run(const Scene& s, const std::string& algo, const std::string& dir, const Run& r,
-                          const Image& against, const nlohmann::json& out, BudgetRunCache& rendered)
+                          const Image& against, const std::string& against_name, const nlohmann::json& out,
+                          BudgetRunCache& rendered)
 {
     const std::string key = switches_json(algo, r.o).dump();
     nlohmann::json j;
@@ -352,15 +353,13 @@ nlohmann::json budget_run(const Scene& s, const std::string& algo, const std::st
         j = copied_run(dir, r, dir + "/runs/baseline", out["baseline"]);
         j["switches"] = switches_json(algo, r.o);
         j["same_because"] = "no ray of the baseline passes the threshold, so early termination stops none";
-        rendered.runs[key] = {dir + "/runs/" + r.name, j};
     } else {
         j = rendered_run(s, algo, dir, r, against);
-        rendered.runs[key] = {dir + "/runs/" + r.name, j};
-        return j;
     }
-    // The run it copies may have been measured against another image (a factor against the step run, the total
-    // against the reference).
-    j.update(measured(dir, r.name, read_npy(dir + "/runs/" + r.name + ".npy"), against));
+    if (j.value("against", "reference") != against_name)
+        j.update(measured(dir, r.name, read_npy(dir + "/runs/" + r.name + ".npy"), against));
+    j["against"] = against_name;
+    if (!j.contains("same_as") || j.contains("same_because")) rendered.runs[key] = {dir + "/runs/" + r.name, j};
     return j;
 }
 
@@ -424,8 +423,8 @@ nlohmann::json run_budget(const Scene& s, const std::string& algo, const AlgoOpt
         for (const BudgetFactor& f : factors)
             if (f.name == r.name) factor = &f;
         const bool against_step = factor && factor->against == BudgetAgainst::step;
-        nlohmann::json j = budget_run(s, algo, dir, r, against_step ? step_image : ref.image, out, rendered);
-        j["against"] = against_step ? "step" : "reference";
+        nlohmann::json j = budget_run(s, algo, dir, r, against_step ? step_image : ref.image,
+                                      against_step ? "step" : "reference", out, rendered);
         if (r.name == "baseline" && algo == "raycast") step_image = read_npy(dir + "/runs/baseline.npy");
         if (r.name == "baseline" || r.name == "total") {
             out[r.name] = std::move(j);

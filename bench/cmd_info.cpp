@@ -148,7 +148,7 @@ void register_info(CLI::App& app)
     add_input_options(*cmd, *in);
     cmd->add_flag("--json", *json, "Print one JSON object on stdout");
     cmd->callback([in, json] {
-        const Dataset d = load_input(*in);
+        const Dataset d = load_input(*in, true);
         print_warnings(d);
         nlohmann::json j = d.mesh ? describe_mesh(*d.mesh, d.piece_of_cell) : describe_volume(*d.volume);
         j["file"] = in->path;

@@ -11,9 +11,10 @@
 
 namespace uvr::cli {
 
-Dataset load_input(const InputOptions& in)
+Dataset load_input(const InputOptions& in, bool cell_census)
 {
     LoadOptions lo;
+    lo.cell_census = cell_census;
     lo.q_file = in.q_file;
     lo.raw_dtype = in.dtype;
     lo.raw_big_endian = in.big_endian;

@@ -22,8 +22,9 @@ struct InputOptions {
     std::string time_step = "last";  // Exodus II: --time INDEX|last
 };
 
-// Loads the input; throws InputError naming the file for anything wrong (an unknown --field included).
-Dataset load_input(const InputOptions& in);
+// Loads the input; throws InputError naming the file for anything wrong (an unknown --field included). `cell_census`:
+// what uvr info adds (LoadOptions::cell_census).
+Dataset load_input(const InputOptions& in, bool cell_census = false);
 void print_warnings(const Dataset& d);  // the data's warnings on stderr, one line each
 
 struct SceneOptions {

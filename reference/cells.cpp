@@ -164,10 +164,6 @@ void add_cell_fields(const UnstructuredCells& cells, const std::vector<uint32_t>
     }
 }
 
-}  // namespace
-
-namespace {
-
 // How many tetrahedra the split below makes of a cell of this type: the cone from one corner over the faces that do not
 // hold it (a hexahedron's three quadrilaterals, a wedge's quadrilateral and triangle, a pyramid's two faces).
 std::size_t tetrahedra_of_type(int type)
@@ -182,7 +178,54 @@ std::size_t tetrahedra_of_type(int type)
     }
 }
 
+
+// The point index of corner v of a structured grid's cell (i, j, k): bits (v & 1, v >> 1 & 1, v >> 2 & 1) along i,
+// j, k.
+std::size_t grid_corner(const StructuredGrid& grid, int64_t i, int64_t j, int64_t k, int v)
+{
+    const int64_t ni = grid.dims[0], nj = grid.dims[1];
+    return std::size_t((i + (v & 1)) + ni * ((j + (v >> 1 & 1)) + nj * (k + (v >> 2 & 1))));
+}
+
+// Whether a blanked point touches the cell (i, j, k): the splits and the census leave it out.
+bool cell_blanked(const StructuredGrid& grid, int64_t i, int64_t j, int64_t k)
+{
+    if (grid.iblank.empty()) return false;
+    for (int v = 0; v < 8; ++v)
+        if (grid.iblank[grid_corner(grid, i, j, k, v)] == 0) return true;
+    return false;
+}
+
+// The cells of a structured grid that no blanked point touches (each is split into five tetrahedra).
+std::size_t unblanked_cells(const StructuredGrid& grid)
+{
+    const int64_t ni = grid.dims[0], nj = grid.dims[1], nk = grid.dims[2];
+    if (grid.iblank.empty()) return std::size_t(ni - 1) * std::size_t(nj - 1) * std::size_t(nk - 1);
+    std::size_t n = 0;
+    for (int64_t k = 0; k + 1 < nk; ++k)
+        for (int64_t j = 0; j + 1 < nj; ++j)
+            for (int64_t i = 0; i + 1 < ni; ++i) n += cell_blanked(grid, i, j, k) ? 0 : 1;
+    return n;
+}
+
+// The Jacobian determinant of the trilinear map of corners c (bit v of a corner's index: (i, j, k) = (v & 1, v >> 1 &
+// 1, v >> 2 & 1)) at parameters (u, v, w).
+double trilinear_jacobian(const glm::dvec3 c[8], double u, double v, double w)
+{
+    const double a[2] = {1.0 - u, u}, b[2] = {1.0 - v, v}, g[2] = {1.0 - w, w};
+    glm::dvec3 du(0.0), dv(0.0), dw(0.0);
+    for (int j = 0; j < 2; ++j)
+        for (int k = 0; k < 2; ++k) {
+            du += b[j] * g[k] * (c[1 | j << 1 | k << 2] - c[j << 1 | k << 2]);
+            dv += a[j] * g[k] * (c[j | 2 | k << 2] - c[j | k << 2]);
+            dw += a[j] * b[k] * (c[j | k << 1 | 4] - c[j | k << 1]);
+        }
+    return glm::dot(du, glm::cross(dv, dw));
+}
+
+
 }  // namespace
+
 
 TetMesh tetrahedralize_cells(const UnstructuredCells& cells, std::vector<std::string>& warnings)
 {
@@ -238,27 +281,6 @@ TetMesh tetrahedralize_cells(const UnstructuredCells& cells, std::vector<std::st
     return mesh;
 }
 
-namespace {
-
-// The cells of a structured grid that no blanked point touches (each is split into five tetrahedra).
-std::size_t unblanked_cells(const StructuredGrid& grid)
-{
-    const int64_t ni = grid.dims[0], nj = grid.dims[1], nk = grid.dims[2];
-    const auto point = [&](int64_t i, int64_t j, int64_t k) { return std::size_t(i + ni * (j + nj * k)); };
-    if (grid.iblank.empty()) return std::size_t(ni - 1) * std::size_t(nj - 1) * std::size_t(nk - 1);
-    std::size_t n = 0;
-    for (int64_t k = 0; k + 1 < nk; ++k)
-        for (int64_t j = 0; j + 1 < nj; ++j)
-            for (int64_t i = 0; i + 1 < ni; ++i) {
-                bool blanked = false;
-                for (int v = 0; v < 8 && !blanked; ++v)
-                    blanked = grid.iblank[point(i + (v & 1), j + (v >> 1 & 1), k + (v >> 2 & 1))] == 0;
-                n += blanked ? 0 : 1;
-            }
-    return n;
-}
-
-}  // namespace
 
 TetMesh tetrahedralize_structured(const StructuredGrid& grid)
 {
@@ -290,14 +312,9 @@ TetMesh tetrahedralize_structured(const StructuredGrid& grid)
     for (int64_t k = 0; k + 1 < nk; ++k)
         for (int64_t j = 0; j + 1 < nj; ++j)
             for (int64_t i = 0; i + 1 < ni; ++i) {
+                if (cell_blanked(grid, i, j, k)) continue;
                 uint32_t g[8];
-                bool blanked = false;
-                for (int v = 0; v < 8; ++v) {
-                    const int64_t idx = (i + (v & 1)) + ni * ((j + (v >> 1 & 1)) + nj * (k + (v >> 2 & 1)));
-                    g[v] = static_cast<uint32_t>(idx);
-                    if (!grid.iblank.empty() && grid.iblank[std::size_t(idx)] == 0) blanked = true;
-                }
-                if (blanked) continue;
+                for (int v = 0; v < 8; ++v) g[v] = static_cast<uint32_t>(grid_corner(grid, i, j, k, v));
                 const bool odd = ((i + j + k) & 1) != 0;
                 const int* corners = odd ? kOddCorners : kEvenCorners;
                 const int* central = odd ? kEvenCorners : kOddCorners;
@@ -312,24 +329,6 @@ TetMesh tetrahedralize_structured(const StructuredGrid& grid)
     return mesh;
 }
 
-namespace {
-
-// The Jacobian determinant of the trilinear map of corners c (bit v of a corner's index: (i, j, k) = (v & 1, v >> 1 &
-// 1, v >> 2 & 1)) at parameters (u, v, w).
-double trilinear_jacobian(const glm::dvec3 c[8], double u, double v, double w)
-{
-    const double a[2] = {1.0 - u, u}, b[2] = {1.0 - v, v}, g[2] = {1.0 - w, w};
-    glm::dvec3 du(0.0), dv(0.0), dw(0.0);
-    for (int j = 0; j < 2; ++j)
-        for (int k = 0; k < 2; ++k) {
-            du += b[j] * g[k] * (c[1 | j << 1 | k << 2] - c[j << 1 | k << 2]);
-            dv += a[j] * g[k] * (c[j | 2 | k << 2] - c[j | k << 2]);
-            dw += a[j] * b[k] * (c[j | k << 1 | 4] - c[j | k << 1]);
-        }
-    return glm::dot(du, glm::cross(dv, dw));
-}
-
-}  // namespace
 
 HexahedronCensus hexahedron_census(const StructuredGrid& grid)
 {
@@ -338,15 +337,9 @@ HexahedronCensus hexahedron_census(const StructuredGrid& grid)
     for (int64_t k = 0; k + 1 < nk; ++k)
         for (int64_t j = 0; j + 1 < nj; ++j)
             for (int64_t i = 0; i + 1 < ni; ++i) {
+                if (cell_blanked(grid, i, j, k)) continue;
                 glm::dvec3 c[8];
-                bool blanked = false;
-                for (int v = 0; v < 8; ++v) {
-                    const int64_t di = v & 1, dj = v >> 1 & 1, dk = v >> 2 & 1;
-                    const std::size_t idx = std::size_t((i + di) + ni * ((j + dj) + nj * (k + dk)));
-                    c[v] = grid.points[idx];
-                    blanked = blanked || (!grid.iblank.empty() && grid.iblank[idx] == 0);
-                }
-                if (blanked) continue;
+                for (int v = 0; v < 8; ++v) c[v] = grid.points[grid_corner(grid, i, j, k, v)];
                 ++census.hexahedra;
                 bool repeated = false;
                 for (int p = 0; p < 8 && !repeated; ++p)

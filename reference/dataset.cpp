@@ -19,7 +19,7 @@ Dataset load_dataset(const std::string& path, const LoadOptions& options)
     }
     const std::string ext = file_extension(path);
     if (options.raw_dims) return read_raw_volume(path, *options.raw_dims, options.raw_dtype, options.raw_big_endian);
-    if (!options.q_file.empty()) return read_plot3d(path, options.q_file);
+    if (!options.q_file.empty()) return read_plot3d(path, options.q_file, options.cell_census);
     if (ext == ".vtk") return read_vtk_legacy(path);
     if (ext == ".vtu" || ext == ".vti") return read_vtk_xml(path);
     if (ext == ".pvtu") return read_pvtu(path);
@@ -30,7 +30,7 @@ Dataset load_dataset(const std::string& path, const LoadOptions& options)
     if (ext == ".slc") return read_slc(path);
     if (ext == ".exo" || ext == ".e" || ext == ".ex2" || (ext == ".g" && looks_like_exodus(path)))
         return read_exodus(path, options.time_step);
-    if (ext == ".xyz" || ext == ".x" || ext == ".g" || ext == ".p3d") return read_plot3d(path, "");
+    if (ext == ".xyz" || ext == ".x" || ext == ".g" || ext == ".p3d") return read_plot3d(path, "", options.cell_census);
     if (ext == ".raw")
         throw InputError(path, "a raw volume needs its size: --dims X,Y,Z (and --dtype, default uint8)");
     if (ext == ".bin")

@@ -22,6 +22,7 @@ struct LoadOptions {
     std::string raw_dtype = "uint8";                  // raw volumes: voxel type (parse_voxel_type names)
     bool raw_big_endian = false;
     std::string time_step = "last";                   // Exodus II: the time step's index (from 1), or "last"
+    bool cell_census = false;  // PLOT3D: count the grid's collapsed and folded hexahedra (uvr info; a pass over the cells)
 };
 
 // The whole mesh's extent as a .pvtu that `uvr partition` wrote records it (docs/distributed.md): its pieces' bounds,
@@ -71,7 +72,7 @@ Dataset read_pvtu(const std::string& path, std::size_t rank, std::size_t ranks);
 std::optional<WholeExtent> read_pvtu_whole_extent(const std::string& path);
 Dataset read_tetgen(const std::string& path);             // .node + .ele (either name given)
 Dataset read_off(const std::string& path);                // tetrahedral OFF
-Dataset read_plot3d(const std::string& xyz_path, const std::string& q_path);
+Dataset read_plot3d(const std::string& xyz_path, const std::string& q_path, bool cell_census = false);
 Dataset read_nrrd(const std::string& path);               // .nrrd and .nhdr (raw and gzip, attached and detached)
 Dataset read_metaimage(const std::string& path);          // .mhd/.mha
 Dataset read_slc(const std::string& path);                // SLC (magic 11111), raw and RLE slices

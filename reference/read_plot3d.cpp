@@ -260,19 +260,20 @@ void read_q(const std::string& q_path, const std::string& xyz_path, const GridLa
 
 }  // namespace
 
-Dataset read_plot3d(const std::string& xyz_path, const std::string& q_path)
+Dataset read_plot3d(const std::string& xyz_path, const std::string& q_path, bool cell_census)
 {
     GridLayout layout;
     StructuredGrid grid = read_grid(xyz_path, layout);
     Dataset result;
     if (!q_path.empty()) read_q(q_path, xyz_path, layout, grid, result.warnings);
-    const HexahedronCensus census = hexahedron_census(grid);
-    result.info_json = nlohmann::json({{"format", "PLOT3D"},
-                                       {"dims", grid.dims},
-                                       {"hexahedra", census.hexahedra},
-                                       {"collapsed_hexahedra", census.collapsed},
-                                       {"folded_hexahedra", census.folded}})
-                           .dump();
+    nlohmann::json info = {{"format", "PLOT3D"}, {"dims", grid.dims}};
+    if (cell_census) {
+        const HexahedronCensus census = hexahedron_census(grid);
+        info["hexahedra"] = census.hexahedra;
+        info["collapsed_hexahedra"] = census.collapsed;
+        info["folded_hexahedra"] = census.folded;
+    }
+    result.info_json = info.dump();
     result.mesh = tetrahedralize_structured(grid);
     result.mesh->source = xyz_path;
     return result;

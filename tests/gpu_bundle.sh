@@ -7,12 +7,8 @@
 set -euo pipefail
 repo=$1
 uvr=$2
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail() {
-  echo "FAIL: $*" >&2
-  exit 1
-}
+# shellcheck source=tests/script_support.sh
+source "$(dirname "$0")/script_support.sh"
 data=${UVR_DATA_DIR:-$repo/data}/vtk-data
 
 # A size limit the bundle cannot meet: refused, nothing left behind.

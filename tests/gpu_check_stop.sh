@@ -8,12 +8,8 @@
 # Usage: tests/gpu_check_stop.sh UVR_BINARY
 set -euo pipefail
 uvr=$1
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-fail() {
-  echo "FAIL: $*" >&2
-  exit 1
-}
+# shellcheck source=tests/script_support.sh
+source "$(dirname "$0")/script_support.sh"
 runs() {  # DIR: the number of runs in DIR/gpu-check.json (fails on invalid JSON)
   python3 -c 'import json, sys; print(len(json.load(open(sys.argv[1] + "/gpu-check.json"))["runs"]))' "$1"
 }

@@ -144,7 +144,7 @@ TEST_CASE("PLOT3D reader counts the grid's hexahedra, the collapsed and the fold
         return glm::dvec3(i, j, k);
     };
     const std::string path = tmp.write("census.xyz", xyz_file(4, 2, 2, {}, o, place));
-    const Dataset d = read_plot3d(path, "");
+    const Dataset d = read_plot3d(path, "", true);
     const nlohmann::json info = nlohmann::json::parse(d.info_json);
     CHECK(info["format"] == "PLOT3D");
     CHECK(info["dims"] == nlohmann::json({4, 2, 2}));
@@ -153,14 +153,16 @@ TEST_CASE("PLOT3D reader counts the grid's hexahedra, the collapsed and the fold
     CHECK(info["folded_hexahedra"] == 1);
     // The NASA grids (docs/formats.md): Blunt Fin's 39 cells along its symmetry line are collapsed (the 39 points
     // that repeat a position), none folds; the Oxygen Post has neither.
-    const nlohmann::json fin = nlohmann::json::parse(read_plot3d(data_path("vtk-data/bluntfinxyz.bin"), "").info_json);
+    const nlohmann::json fin = nlohmann::json::parse(read_plot3d(data_path("vtk-data/bluntfinxyz.bin"), "", true).info_json);
     CHECK(fin["hexahedra"] == 39 * 31 * 31);
     CHECK(fin["collapsed_hexahedra"] == 39);
     CHECK(fin["folded_hexahedra"] == 0);
-    const nlohmann::json post = nlohmann::json::parse(read_plot3d(data_path("vtk-data/postxyz.bin"), "").info_json);
+    const nlohmann::json post = nlohmann::json::parse(read_plot3d(data_path("vtk-data/postxyz.bin"), "", true).info_json);
     CHECK(post["hexahedra"] == 37 * 75 * 37);
     CHECK(post["collapsed_hexahedra"] == 0);
     CHECK(post["folded_hexahedra"] == 0);
+    // A load that does not ask for the census (every render) skips its pass over the cells.
+    CHECK_FALSE(nlohmann::json::parse(read_plot3d(path, "").info_json).contains("hexahedra"));
 }
 
 TEST_CASE("PLOT3D reader drops the cells that touch a blanked point")
